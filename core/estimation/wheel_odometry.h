@@ -1,0 +1,38 @@
+#pragma once
+
+#include <optional>
+
+#include "core/msgs/odometry.h"
+#include "core/msgs/wheel_encoders.h"
+
+namespace mobot::estimation {
+
+// Geometry that turns encoder ticks into wheel travel. Left and right radii are separate because
+// calibration (UMBmark) corrects them separately.
+struct OdometryParams {
+  double left_wheel_radius_m = 0.1;
+  double right_wheel_radius_m = 0.1;
+  double track_m = 0.6;
+  int ticks_per_wheel_rev = 10000;
+};
+
+// Dead reckoning from cumulative encoder counts (ALGORITHMS.md E1), in the odom frame.
+class WheelOdometry {
+ public:
+  explicit WheelOdometry(const OdometryParams& params, geometry::Pose2D start = {});
+
+  // The first reading only anchors the counters; later ones advance the pose.
+  const msgs::Odometry& update(const msgs::WheelEncoders& encoders);
+  const msgs::Odometry& odometry() const { return odometry_; }
+  // Distance rolled by the base centre since construction (for run statistics).
+  double travelled_m() const { return travelled_m_; }
+  void reset(geometry::Pose2D pose);
+
+ private:
+  OdometryParams params_;
+  std::optional<msgs::WheelEncoders> last_;
+  msgs::Odometry odometry_;
+  double travelled_m_ = 0.0;
+};
+
+}  // namespace mobot::estimation
