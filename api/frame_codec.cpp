@@ -1,0 +1,137 @@
+#include "api/frame_codec.h"
+
+#include <bit>
+#include <cstring>
+
+#include "api/stream_topics.h"
+
+namespace mobot::api {
+namespace {
+
+// Little-endian appenders; the host is little-endian (x86-64, arm64), checked at compile time.
+static_assert(std::endian::native == std::endian::little, "binary frames are little-endian");
+
+template <class T>
+void append(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  out.append(bytes, sizeof(T));
+}
+
+void append_header(std::string& out, std::uint16_t topic_binary_id, const FrameStamp& stamp) {
+  out.append("MBT1", 4);
+  append<std::uint16_t>(out, topic_binary_id);
+  append<std::uint16_t>(out, static_cast<std::uint16_t>(kBinaryHeaderBytes));
+  append<std::uint64_t>(out, stamp.seq);
+  append<double>(out, stamp.t_s);
+  append<std::int64_t>(out, stamp.wall_us);
+}
+
+}  // namespace
+
+std::string encode_json_frame(std::string_view topic, const FrameStamp& stamp,
+                              const nlohmann::json& data) {
+  std::string out = R"({"topic":")";
+  out.append(topic);
+  out.append(R"(","t":)");
+  out.append(nlohmann::json(stamp.t_s).dump());
+  out.append(R"(,"seq":)");
+  out.append(std::to_string(stamp.seq));
+  out.append(R"(,"wall_us":)");
+  out.append(std::to_string(stamp.wall_us));
+  out.append(R"(,"data":)");
+  out.append(data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  out.push_back('}');
+  return out;
+}
+
+std::string encode_binary_scan(const FrameStamp& stamp, const msgs::LaserScan& scan,
+                               const geometry::Pose2D& sensor_in_map) {
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + 32 + scan.ranges_m.size() * sizeof(float));
+  append_header(out, topic_spec(TopicId::kScan).binary_id, stamp);
+  append<float>(out, scan.angle_min_rad);
+  append<float>(out, scan.angle_increment_rad);
+  append<float>(out, scan.range_min_m);
+  append<float>(out, scan.range_max_m);
+  append<float>(out, static_cast<float>(sensor_in_map.x));
+  append<float>(out, static_cast<float>(sensor_in_map.y));
+  append<float>(out, static_cast<float>(sensor_in_map.theta));
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(scan.ranges_m.size()));
+  out.append(reinterpret_cast<const char*>(scan.ranges_m.data()),
+             scan.ranges_m.size() * sizeof(float));
+  return out;
+}
+
+std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyGrid& grid,
+                              std::int64_t map_id) {
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + 32 + grid.cells().size());
+  append_header(out, topic_spec(TopicId::kMap).binary_id, stamp);
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(grid.width()));
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(grid.height()));
+  append<float>(out, static_cast<float>(grid.resolution_m()));
+  append<float>(out, static_cast<float>(grid.origin().x));
+  append<float>(out, static_cast<float>(grid.origin().y));
+  append<float>(out, static_cast<float>(grid.origin().theta));
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(map_id));
+  append<std::uint32_t>(out, 0);
+  out.append(reinterpret_cast<const char*>(grid.cells().data()), grid.cells().size());
+  return out;
+}
+
+nlohmann::json pose_json(const geometry::Pose2D& pose) {
+  return {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}};
+}
+
+nlohmann::json scan_json(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map) {
+  return {{"angle_min", scan.angle_min_rad},   {"angle_increment", scan.angle_increment_rad},
+          {"range_min", scan.range_min_m},     {"range_max", scan.range_max_m},
+          {"ranges", scan.ranges_m},           {"sensor_pose", pose_json(sensor_in_map)}};
+}
+
+nlohmann::json sonar_json(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map) {
+  nlohmann::json readings = nlohmann::json::array();
+  for (const auto& reading : ring.readings) {
+    const geometry::Pose2D sensor = geometry::compose(base_in_map, reading.sensor_in_base);
+    readings.push_back({{"x", sensor.x},
+                        {"y", sensor.y},
+                        {"theta", sensor.theta},
+                        {"cone", reading.cone_rad},
+                        {"range", reading.range_m},
+                        {"range_min", reading.range_min_m},
+                        {"range_max", reading.range_max_m}});
+  }
+  return {{"readings", std::move(readings)}};
+}
+
+nlohmann::json map_json(const mapping::OccupancyGrid& grid, std::int64_t map_id) {
+  std::vector<int> data;
+  data.reserve(grid.cells().size());
+  for (const std::uint8_t cell : grid.cells()) {
+    data.push_back(cell == mapping::OccupancyGrid::kUnknown ? -1 : cell);
+  }
+  return {{"id", map_id},
+          {"width", grid.width()},
+          {"height", grid.height()},
+          {"resolution", grid.resolution_m()},
+          {"origin", pose_json(grid.origin())},
+          {"data", std::move(data)}};
+}
+
+nlohmann::json snapshot_json(const RobotSnapshot& snapshot) {
+  nlohmann::json sensors = nlohmann::json::object();
+  for (const auto& [name, health] : snapshot.sensors) {
+    sensors[name] = {{"ok", health.ok}, {"rate_hz", health.rate_hz}};
+  }
+  return {{"t", snapshot.t_s},
+          {"mode", snapshot.mode},
+          {"pose", pose_json(snapshot.pose)},
+          {"velocity", {{"v", snapshot.velocity.linear_mps}, {"w", snapshot.velocity.angular_radps}}},
+          {"localization", {{"method", snapshot.localization_method}, {"cov", snapshot.covariance}}},
+          {"kinematics", snapshot.kinematics},
+          {"estop", snapshot.estop},
+          {"sensors", std::move(sensors)}};
+}
+
+}  // namespace mobot::api

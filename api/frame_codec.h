@@ -1,0 +1,43 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "api/robot_port.h"
+#include "core/geometry/pose2d.h"
+#include "core/mapping/occupancy_grid.h"
+#include "core/msgs/laser_scan.h"
+#include "core/msgs/odometry.h"
+#include "core/msgs/sonar_ring.h"
+
+namespace mobot::api {
+
+// The envelope every stream frame shares; see README "Stream protocol".
+struct FrameStamp {
+  double t_s = 0.0;
+  std::uint64_t seq = 0;
+  std::int64_t wall_us = 0;
+};
+
+inline constexpr std::size_t kBinaryHeaderBytes = 32;
+
+// `{"topic","t","seq","wall_us","data"}` as text.
+std::string encode_json_frame(std::string_view topic, const FrameStamp& stamp,
+                              const nlohmann::json& data);
+
+std::string encode_binary_scan(const FrameStamp& stamp, const msgs::LaserScan& scan,
+                               const geometry::Pose2D& sensor_in_map);
+std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyGrid& grid,
+                              std::int64_t map_id);
+
+nlohmann::json pose_json(const geometry::Pose2D& pose);
+nlohmann::json scan_json(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
+nlohmann::json sonar_json(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map);
+nlohmann::json map_json(const mapping::OccupancyGrid& grid, std::int64_t map_id);
+nlohmann::json snapshot_json(const RobotSnapshot& snapshot);
+
+}  // namespace mobot::api

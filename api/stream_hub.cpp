@@ -1,0 +1,244 @@
+#include "api/stream_hub.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "api/stream_session.h"
+#include "api/websocket_frames.h"
+
+namespace mobot::api {
+namespace {
+
+std::int64_t wall_clock_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::shared_ptr<const std::string> as_text_frame(std::string payload) {
+  return std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kText, payload));
+}
+
+std::shared_ptr<const std::string> as_binary_frame(std::string payload) {
+  return std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kBinary, payload));
+}
+
+}  // namespace
+
+StreamHub::StreamHub(StreamOptions options) : options_(options) {}
+
+bool StreamHub::wanted(TopicId topic) const {
+  const auto i = topic_index(topic);
+  return json_subscribers_[i].load(std::memory_order_relaxed) > 0 ||
+         binary_subscribers_[i].load(std::memory_order_relaxed) > 0;
+}
+
+FrameStamp StreamHub::next_stamp(TopicId topic, double t_s) {
+  return {t_s, seq_[topic_index(topic)].fetch_add(1, std::memory_order_relaxed) + 1,
+          wall_clock_us()};
+}
+
+void StreamHub::publish_json(TopicId topic, double t_s, const nlohmann::json& data) {
+  const FrameStamp stamp = next_stamp(topic, t_s);
+  SharedFrame frame;
+  frame.wall_us = stamp.wall_us;
+  frame.json = as_text_frame(encode_json_frame(topic_spec(topic).name, stamp, data));
+  distribute(topic, frame);
+}
+
+void StreamHub::publish_pose(double t_s, const geometry::Pose2D& pose,
+                             const msgs::Twist& velocity,
+                             const std::array<double, 9>& covariance) {
+  if (!wanted(TopicId::kPose)) {
+    next_stamp(TopicId::kPose, t_s);
+    return;
+  }
+  publish_json(TopicId::kPose, t_s,
+               {{"x", pose.x},
+                {"y", pose.y},
+                {"theta", pose.theta},
+                {"v", velocity.linear_mps},
+                {"w", velocity.angular_radps},
+                {"cov", covariance}});
+}
+
+void StreamHub::publish_odom(const msgs::Odometry& odometry) {
+  if (!wanted(TopicId::kOdom)) {
+    next_stamp(TopicId::kOdom, odometry.stamp_s);
+    return;
+  }
+  publish_json(TopicId::kOdom, odometry.stamp_s,
+               {{"x", odometry.pose.x},
+                {"y", odometry.pose.y},
+                {"theta", odometry.pose.theta},
+                {"v", odometry.twist.linear_mps},
+                {"w", odometry.twist.angular_radps}});
+}
+
+void StreamHub::publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map) {
+  const FrameStamp stamp = next_stamp(TopicId::kScan, scan.stamp_s);
+  const auto i = topic_index(TopicId::kScan);
+  SharedFrame frame;
+  frame.wall_us = stamp.wall_us;
+  if (json_subscribers_[i].load(std::memory_order_relaxed) > 0) {
+    frame.json = as_text_frame(encode_json_frame("scan", stamp, scan_json(scan, sensor_in_map)));
+  }
+  if (binary_subscribers_[i].load(std::memory_order_relaxed) > 0) {
+    frame.binary = as_binary_frame(encode_binary_scan(stamp, scan, sensor_in_map));
+  }
+  if (frame.json || frame.binary) distribute(TopicId::kScan, frame);
+}
+
+void StreamHub::publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map) {
+  if (!wanted(TopicId::kSonar)) {
+    next_stamp(TopicId::kSonar, ring.stamp_s);
+    return;
+  }
+  publish_json(TopicId::kSonar, ring.stamp_s, sonar_json(ring, base_in_map));
+}
+
+void StreamHub::publish_map(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
+                            std::int64_t map_id) {
+  const FrameStamp stamp = next_stamp(TopicId::kMap, t_s);
+  {
+    std::lock_guard lock(mutex_);
+    map_ = std::move(grid);
+    map_id_ = map_id;
+    map_stamp_ = stamp;
+    map_frame_ = {};
+  }
+  if (!wanted(TopicId::kMap)) return;
+  SharedFrame frame;
+  const auto i = topic_index(TopicId::kMap);
+  if (json_subscribers_[i].load() > 0) frame.json = latest_map_frame(false).json;
+  if (binary_subscribers_[i].load() > 0) frame.binary = latest_map_frame(true).binary;
+  frame.wall_us = stamp.wall_us;
+  distribute(TopicId::kMap, frame);
+}
+
+SharedFrame StreamHub::latest_map_frame(bool binary) {
+  std::lock_guard lock(mutex_);
+  if (!map_) return {};
+  map_frame_.wall_us = map_stamp_.wall_us;
+  if (binary && !map_frame_.binary) {
+    map_frame_.binary = as_binary_frame(encode_binary_map(map_stamp_, *map_, map_id_));
+  }
+  if (!binary && !map_frame_.json) {
+    map_frame_.json = as_text_frame(encode_json_frame("map", map_stamp_, map_json(*map_, map_id_)));
+  }
+  return map_frame_;
+}
+
+void StreamHub::publish_status(const RobotSnapshot& snapshot) {
+  if (!wanted(TopicId::kStatus)) {
+    next_stamp(TopicId::kStatus, snapshot.t_s);
+    return;
+  }
+  publish_json(TopicId::kStatus, snapshot.t_s, snapshot_json(snapshot));
+}
+
+void StreamHub::publish_event(double t_s, const std::string& kind, const nlohmann::json& detail) {
+  if (!wanted(TopicId::kEvents)) {
+    next_stamp(TopicId::kEvents, t_s);
+    return;
+  }
+  publish_json(TopicId::kEvents, t_s, {{"t", t_s}, {"kind", kind}, {"detail", detail}});
+}
+
+void StreamHub::publish_truth(const SimTruth& truth) {
+  if (!wanted(TopicId::kTruth)) {
+    next_stamp(TopicId::kTruth, truth.t_s);
+    return;
+  }
+  publish_json(TopicId::kTruth, truth.t_s,
+               {{"pose", pose_json(truth.pose)}, {"collisions", truth.collisions}});
+}
+
+void StreamHub::distribute(TopicId topic, const SharedFrame& frame) {
+  std::lock_guard lock(mutex_);
+  for (const auto& session : sessions_) {
+    if (session->offer(topic, frame)) to_wake_.push_back(session);
+  }
+}
+
+void StreamHub::flush() {
+  std::vector<std::shared_ptr<StreamSession>> waking;
+  {
+    std::lock_guard lock(mutex_);
+    waking.swap(to_wake_);
+  }
+  for (const auto& session : waking) session->wake();
+}
+
+void StreamHub::attach(const std::shared_ptr<StreamSession>& session) {
+  std::lock_guard lock(mutex_);
+  sessions_.push_back(session);
+  sessions_opened_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void StreamHub::detach(const StreamSession* session) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(sessions_, [&](const auto& s) { return s.get() == session; });
+  std::erase_if(to_wake_, [&](const auto& s) { return s.get() == session; });
+}
+
+void StreamHub::count_subscription(TopicId topic, bool binary, int delta) {
+  auto& counter = binary ? binary_subscribers_[topic_index(topic)]
+                         : json_subscribers_[topic_index(topic)];
+  counter.fetch_add(delta, std::memory_order_relaxed);
+}
+
+std::string StreamHub::hello_frame() const {
+  nlohmann::json topics = nlohmann::json::array();
+  for (const auto& spec : kTopics) {
+    if (spec.sim_only && !options_.simulated) continue;
+    nlohmann::json encodings = spec.binary_id != 0 ? nlohmann::json{"json", "binary"}
+                                                   : nlohmann::json{"json"};
+    topics.push_back({{"name", spec.name},
+                      {"rate_hz", options_.nominal_rate_hz[topic_index(spec.id)]},
+                      {"encodings", std::move(encodings)}});
+  }
+  const nlohmann::json hello{{"op", "hello"}, {"version", 1}, {"topics", std::move(topics)}};
+  return hello.dump();
+}
+
+void StreamHub::close_all() {
+  std::vector<std::shared_ptr<StreamSession>> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    sessions = sessions_;
+  }
+  for (const auto& session : sessions) session->close(1001, "server shutting down");
+}
+
+void StreamHub::count_sent(std::uint64_t frames, std::uint64_t bytes) {
+  frames_sent_.fetch_add(frames, std::memory_order_relaxed);
+  bytes_sent_.fetch_add(bytes, std::memory_order_relaxed);
+}
+
+std::string StreamHub::metrics_text() const {
+  std::size_t clients = 0;
+  {
+    std::lock_guard lock(mutex_);
+    clients = sessions_.size();
+  }
+  std::string out;
+  out += "# HELP mobot_stream_clients WebSocket stream sessions open now.\n";
+  out += "# TYPE mobot_stream_clients gauge\n";
+  out += "mobot_stream_clients " + std::to_string(clients) + "\n";
+  out += "# HELP mobot_stream_sessions_total WebSocket stream sessions opened.\n";
+  out += "# TYPE mobot_stream_sessions_total counter\n";
+  out += "mobot_stream_sessions_total " + std::to_string(sessions_opened_.load()) + "\n";
+  out += "# HELP mobot_stream_frames_sent_total Frames written to stream clients.\n";
+  out += "# TYPE mobot_stream_frames_sent_total counter\n";
+  out += "mobot_stream_frames_sent_total " + std::to_string(frames_sent_.load()) + "\n";
+  out += "# HELP mobot_stream_bytes_sent_total Bytes written to stream clients.\n";
+  out += "# TYPE mobot_stream_bytes_sent_total counter\n";
+  out += "mobot_stream_bytes_sent_total " + std::to_string(bytes_sent_.load()) + "\n";
+  out += "# HELP mobot_stream_frames_dropped_total Frames dropped for clients that read too slowly.\n";
+  out += "# TYPE mobot_stream_frames_dropped_total counter\n";
+  out += "mobot_stream_frames_dropped_total " + std::to_string(frames_dropped_.load()) + "\n";
+  return out;
+}
+
+}  // namespace mobot::api

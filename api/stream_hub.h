@@ -1,0 +1,99 @@
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/frame_codec.h"
+#include "api/robot_port.h"
+#include "api/stream_topics.h"
+#include "core/mapping/occupancy_grid.h"
+#include "core/msgs/laser_scan.h"
+#include "core/msgs/odometry.h"
+#include "core/msgs/sonar_ring.h"
+
+namespace mobot::api {
+
+struct StreamOptions {
+  std::size_t max_frames_per_topic = 4;  // per client; the oldest is dropped beyond it
+  std::size_t max_client_message_bytes = 64 * 1024;
+  std::size_t max_control_frames = 256;  // replies a client has not read; beyond it, it is closed
+  std::array<double, kTopicCount> nominal_rate_hz{};  // advertised in the hello
+  bool simulated = true;
+};
+
+// One publication, encoded once and shared by every session that takes it.
+struct SharedFrame {
+  std::shared_ptr<const std::string> json;    // complete WebSocket frame (text)
+  std::shared_ptr<const std::string> binary;  // complete WebSocket frame (binary), bulk topics only
+  std::int64_t wall_us = 0;
+};
+
+class StreamSession;
+
+// Fan-out from the robot to the WebSocket sessions. Publishers (the control loop) encode each
+// message only in the encodings somebody subscribed to, hand the same bytes to every session, and
+// wake the sessions once per tick in flush(), so a client's frames of one tick leave in one write.
+// Nothing here blocks on a client: each session keeps a few frames per topic and drops the oldest.
+class StreamHub {
+ public:
+  explicit StreamHub(StreamOptions options);
+
+  void publish_pose(double t_s, const geometry::Pose2D& pose, const msgs::Twist& velocity,
+                    const std::array<double, 9>& covariance);
+  void publish_odom(const msgs::Odometry& odometry);
+  void publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
+  void publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map);
+  void publish_map(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
+                   std::int64_t map_id);
+  void publish_status(const RobotSnapshot& snapshot);
+  void publish_event(double t_s, const std::string& kind, const nlohmann::json& detail);
+  void publish_truth(const SimTruth& truth);
+  // Wakes every session that received frames since the last flush.
+  void flush();
+
+  void attach(const std::shared_ptr<StreamSession>& session);
+  void detach(const StreamSession* session);
+  void count_subscription(TopicId topic, bool binary, int delta);
+  // The current map in the given encoding (for a new subscriber), or an empty frame.
+  SharedFrame latest_map_frame(bool binary);
+  std::string hello_frame() const;
+  const StreamOptions& options() const { return options_; }
+  void close_all();
+
+  void count_sent(std::uint64_t frames, std::uint64_t bytes);
+  void count_dropped() { frames_dropped_.fetch_add(1, std::memory_order_relaxed); }
+  std::string metrics_text() const;
+
+ private:
+  bool wanted(TopicId topic) const;
+  FrameStamp next_stamp(TopicId topic, double t_s);
+  void publish_json(TopicId topic, double t_s, const nlohmann::json& data);
+  void distribute(TopicId topic, const SharedFrame& frame);
+
+  StreamOptions options_;
+  std::array<std::atomic<int>, kTopicCount> json_subscribers_{};
+  std::array<std::atomic<int>, kTopicCount> binary_subscribers_{};
+  std::array<std::atomic<std::uint64_t>, kTopicCount> seq_{};
+
+  mutable std::mutex mutex_;  // guards everything below
+  std::vector<std::shared_ptr<StreamSession>> sessions_;
+  std::vector<std::shared_ptr<StreamSession>> to_wake_;
+  std::shared_ptr<const mapping::OccupancyGrid> map_;
+  std::int64_t map_id_ = 0;
+  FrameStamp map_stamp_;
+  SharedFrame map_frame_;
+
+  std::atomic<std::uint64_t> frames_sent_{0};
+  std::atomic<std::uint64_t> bytes_sent_{0};
+  std::atomic<std::uint64_t> frames_dropped_{0};
+  std::atomic<std::uint64_t> sessions_opened_{0};
+};
+
+}  // namespace mobot::api

@@ -1,0 +1,346 @@
+#include "api/stream_session.h"
+
+#include <boost/asio/post.hpp>
+#include <boost/asio/write.hpp>
+#include <cmath>
+
+#include "api/api_error.h"
+#include "api/json_request.h"
+
+namespace mobot::api {
+namespace {
+
+// Frames of a thinned topic are taken when at least this share of the interval has passed, so a
+// 10 Hz request on a 50 Hz topic does not alias down to 8.3 Hz through timing jitter.
+constexpr double kRateTolerance = 0.8;
+
+}  // namespace
+
+StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, RobotPort& port,
+                             Role role, std::string already_received)
+    : socket_(std::move(socket)),
+      hub_(hub),
+      port_(port),
+      role_(role),
+      parser_(hub.options().max_client_message_bytes),
+      already_received_(std::move(already_received)) {}
+
+StreamSession::~StreamSession() {
+  for (std::size_t i = 0; i < kTopicCount; ++i) {
+    if (subscriptions_[i].active) {
+      hub_.count_subscription(static_cast<TopicId>(i), subscriptions_[i].binary, -1);
+    }
+  }
+}
+
+void StreamSession::start() {
+  boost::system::error_code ignored;
+  socket_.set_option(boost::asio::ip::tcp::no_delay(true), ignored);
+  socket_.set_option(boost::asio::socket_base::keep_alive(true), ignored);
+  hub_.attach(shared_from_this());
+  boost::asio::post(socket_.get_executor(), [self = shared_from_this()] {
+    self->queue_control(std::make_shared<const std::string>(
+        encode_ws_frame(WsOpcode::kText, self->hub_.hello_frame())));
+    if (!self->already_received_.empty()) {
+      self->parser_.feed(self->already_received_);
+      self->already_received_.clear();
+      while (auto message = self->parser_.next()) self->handle_message(std::move(*message));
+    }
+    self->read_more();
+  });
+}
+
+bool StreamSession::offer(TopicId topic, const SharedFrame& frame) {
+  const auto i = topic_index(topic);
+  std::lock_guard lock(mutex_);
+  Subscription& subscription = subscriptions_[i];
+  if (!subscription.active || closing_) return false;
+  const auto& bytes = subscription.binary && frame.binary ? frame.binary : frame.json;
+  if (!bytes) return false;
+  if (subscription.min_interval_us > 0 &&
+      frame.wall_us - subscription.last_sent_wall_us <
+          static_cast<std::int64_t>(kRateTolerance * subscription.min_interval_us)) {
+    return false;
+  }
+  subscription.last_sent_wall_us = frame.wall_us;
+  auto& queue = topic_queues_[i];
+  if (queue.size() >= hub_.options().max_frames_per_topic) {
+    queue.pop_front();
+    hub_.count_dropped();
+  }
+  queue.push_back(bytes);
+  if (writing_ || wake_pending_) return false;
+  wake_pending_ = true;
+  return true;
+}
+
+void StreamSession::wake() {
+  boost::asio::post(socket_.get_executor(), [self = shared_from_this()] {
+    {
+      std::lock_guard lock(self->mutex_);
+      self->wake_pending_ = false;
+    }
+    self->write_pending();
+  });
+}
+
+void StreamSession::close(std::uint16_t code, std::string reason) {
+  boost::asio::post(socket_.get_executor(), [self = shared_from_this(), code,
+                                             reason = std::move(reason)] {
+    self->queue_control(std::make_shared<const std::string>(encode_ws_close(code, reason)));
+    std::lock_guard lock(self->mutex_);
+    self->closing_ = true;
+  });
+}
+
+void StreamSession::read_more() {
+  socket_.async_read_some(
+      boost::asio::buffer(read_buffer_),
+      [self = shared_from_this()](boost::system::error_code error, std::size_t bytes) {
+        if (error) {
+          self->shut_down();
+          return;
+        }
+        self->parser_.feed({self->read_buffer_.data(), bytes});
+        while (auto message = self->parser_.next()) self->handle_message(std::move(*message));
+        if (self->parser_.failed()) {
+          self->close(self->parser_.error_code(), self->parser_.error_message());
+          return;
+        }
+        self->read_more();
+      });
+}
+
+void StreamSession::handle_message(WsMessage message) {
+  switch (message.opcode) {
+    case WsOpcode::kPing:
+      queue_control(std::make_shared<const std::string>(
+          encode_ws_frame(WsOpcode::kPong, message.payload)));
+      return;
+    case WsOpcode::kPong:
+      return;
+    case WsOpcode::kClose:
+      close(1000, "");
+      return;
+    case WsOpcode::kBinary:
+      reply_error("unsupported_message", "client messages must be JSON text frames");
+      return;
+    default:
+      break;
+  }
+  nlohmann::json request;
+  try {
+    request = nlohmann::json::parse(message.payload);
+  } catch (const nlohmann::json::exception&) {
+    reply_error("malformed_json", "the message is not valid JSON");
+    return;
+  }
+  try {
+    handle_op(request);
+  } catch (const ApiError& error) {
+    reply_error(error.code(), error.what());
+  }
+}
+
+void StreamSession::handle_op(const nlohmann::json& request) {
+  if (!request.is_object() || !request.contains("op") || !request["op"].is_string()) {
+    throw ApiError(400, "missing_op", "a message needs a string field 'op'");
+  }
+  const std::string op = request["op"];
+  if (op == "subscribe") {
+    subscribe(request);
+  } else if (op == "unsubscribe") {
+    unsubscribe(request);
+  } else if (op == "teleop") {
+    teleop(request);
+  } else if (op == "ping") {
+    nlohmann::json pong{{"op", "pong"}, {"t", port_.snapshot().t_s}};
+    pong["id"] = request.contains("id") ? request["id"] : nlohmann::json(nullptr);
+    reply(pong);
+  } else {
+    throw ApiError(400, "unknown_op", "unknown op '" + op + "'");
+  }
+}
+
+std::vector<std::string> StreamSession::topic_names(const nlohmann::json& request, const char* op) {
+  if (!request.contains("topics") || !request["topics"].is_array()) {
+    throw ApiError(400, "invalid_topics", std::string(op) + " needs an array field 'topics'");
+  }
+  std::vector<std::string> names;
+  for (const auto& name : request["topics"]) {
+    if (!name.is_string()) throw ApiError(400, "invalid_topics", "topic names are strings");
+    names.push_back(name);
+  }
+  return names;
+}
+
+void StreamSession::subscribe(const nlohmann::json& request) {
+  const std::vector<std::string> names = topic_names(request, "subscribe");
+  bool binary = true;
+  if (request.contains("encoding")) {
+    const auto& encoding = request["encoding"];
+    if (encoding != "json" && encoding != "binary") {
+      throw ApiError(400, "invalid_encoding", "encoding is \"json\" or \"binary\"");
+    }
+    binary = encoding == "binary";
+  }
+  std::int64_t min_interval_us = 0;
+  if (request.contains("max_rate_hz")) {
+    const double rate_hz = require_number(request, "max_rate_hz", 0.1, 1000.0);
+    min_interval_us = static_cast<std::int64_t>(1e6 / rate_hz);
+  }
+
+  nlohmann::json accepted = nlohmann::json::array();
+  std::vector<std::string> unknown;
+  bool wants_map = false;
+  for (const auto& name : names) {
+    const auto topic = topic_from_name(name);
+    if (!topic || (topic_spec(*topic).sim_only && !port_.is_simulated())) {
+      unknown.push_back(name);
+      continue;
+    }
+    const bool topic_binary = binary && topic_spec(*topic).binary_id != 0;
+    {
+      std::lock_guard lock(mutex_);
+      Subscription& subscription = subscriptions_[topic_index(*topic)];
+      if (subscription.active) hub_.count_subscription(*topic, subscription.binary, -1);
+      subscription = {true, topic_binary, min_interval_us, 0};
+    }
+    hub_.count_subscription(*topic, topic_binary, +1);
+    wants_map = wants_map || *topic == TopicId::kMap;
+    accepted.push_back(name);
+  }
+  if (!accepted.empty()) reply({{"op", "subscribed"}, {"topics", accepted}});
+  if (!unknown.empty()) {
+    std::string list;
+    for (const auto& name : unknown) list += (list.empty() ? "" : ", ") + name;
+    reply_error("unknown_topic", "unknown topic(s): " + list);
+  }
+  if (wants_map) {
+    bool map_binary = false;
+    {
+      std::lock_guard lock(mutex_);
+      map_binary = subscriptions_[topic_index(TopicId::kMap)].binary;
+    }
+    const SharedFrame map = hub_.latest_map_frame(map_binary);
+    if (map.json || map.binary) {
+      queue_control(map_binary ? map.binary : map.json);
+    }
+  }
+}
+
+void StreamSession::unsubscribe(const nlohmann::json& request) {
+  nlohmann::json removed = nlohmann::json::array();
+  for (const auto& name : topic_names(request, "unsubscribe")) {
+    const auto topic = topic_from_name(name);
+    if (!topic) continue;
+    std::lock_guard lock(mutex_);
+    Subscription& subscription = subscriptions_[topic_index(*topic)];
+    if (!subscription.active) continue;
+    hub_.count_subscription(*topic, subscription.binary, -1);
+    subscription = {};
+    topic_queues_[topic_index(*topic)].clear();
+    removed.push_back(name);
+  }
+  reply({{"op", "unsubscribed"}, {"topics", removed}});
+}
+
+void StreamSession::teleop(const nlohmann::json& request) {
+  if (role_ < Role::kOperator) {
+    throw ApiError(403, "forbidden", "teleop needs the operator role");
+  }
+  const TeleopRequest command = parse_teleop(request);
+  const msgs::Twist applied = port_.teleop(command.twist, command.ttl_ms);
+  reply({{"op", "teleop"}, {"v", applied.linear_mps}, {"w", applied.angular_radps}});
+}
+
+void StreamSession::reply(const nlohmann::json& message) {
+  queue_control(std::make_shared<const std::string>(encode_ws_frame(
+      WsOpcode::kText, message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
+}
+
+void StreamSession::reply_error(const std::string& code, const std::string& message) {
+  reply({{"op", "error"}, {"code", code}, {"message", message}});
+}
+
+void StreamSession::queue_control(std::shared_ptr<const std::string> frame) {
+  bool overflow = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (closing_ || closed_) return;
+    overflow = control_queue_.size() >= hub_.options().max_control_frames;
+    if (!overflow) control_queue_.push_back(std::move(frame));
+  }
+  if (overflow) {
+    // A client that keeps sending requests but never reads the replies.
+    shut_down();
+    return;
+  }
+  write_pending();
+}
+
+void StreamSession::write_pending() {
+  std::vector<boost::asio::const_buffer> buffers;
+  {
+    std::lock_guard lock(mutex_);
+    if (writing_ || closed_) return;
+    for (auto& frame : control_queue_) in_flight_.push_back(std::move(frame));
+    control_queue_.clear();
+    for (auto& queue : topic_queues_) {
+      for (auto& frame : queue) in_flight_.push_back(std::move(frame));
+      queue.clear();
+    }
+    if (in_flight_.empty()) {
+      if (closing_) {
+        closed_ = true;
+        boost::system::error_code ignored;
+        socket_.shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
+      }
+      return;
+    }
+    writing_ = true;
+    buffers.reserve(in_flight_.size());
+    for (const auto& frame : in_flight_) buffers.emplace_back(frame->data(), frame->size());
+  }
+  boost::asio::async_write(
+      socket_, buffers,
+      [self = shared_from_this()](boost::system::error_code error, std::size_t bytes) {
+        std::size_t frames = 0;
+        {
+          std::lock_guard lock(self->mutex_);
+          frames = self->in_flight_.size();
+        }
+        if (!error) self->hub_.count_sent(frames, bytes);
+        self->on_written(error);
+      });
+}
+
+void StreamSession::on_written(boost::system::error_code error) {
+  {
+    std::lock_guard lock(mutex_);
+    writing_ = false;
+    in_flight_.clear();
+  }
+  if (error) {
+    shut_down();
+    return;
+  }
+  write_pending();
+}
+
+void StreamSession::shut_down() {
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_ && !socket_.is_open()) return;
+    closed_ = true;
+    closing_ = true;
+    for (auto& queue : topic_queues_) queue.clear();
+    control_queue_.clear();
+  }
+  hub_.detach(this);
+  boost::system::error_code ignored;
+  socket_.shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
+  socket_.close(ignored);
+}
+
+}  // namespace mobot::api

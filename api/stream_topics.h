@@ -1,0 +1,45 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace mobot::api {
+
+// Every topic the stream offers. Bulk topics also have a binary encoding (README: binary frames).
+enum class TopicId : std::uint8_t { kPose, kOdom, kScan, kSonar, kMap, kStatus, kEvents, kTruth };
+inline constexpr std::size_t kTopicCount = 8;
+
+struct TopicSpec {
+  TopicId id;
+  std::string_view name;
+  std::uint16_t binary_id;  // 0: JSON only
+  bool sim_only;
+};
+
+inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
+    {TopicId::kPose, "pose", 0, false},
+    {TopicId::kOdom, "odom", 0, false},
+    {TopicId::kScan, "scan", 1, false},
+    {TopicId::kSonar, "sonar", 0, false},
+    {TopicId::kMap, "map", 2, false},
+    {TopicId::kStatus, "status", 0, false},
+    {TopicId::kEvents, "events", 0, false},
+    {TopicId::kTruth, "truth", 0, true},
+}};
+
+inline constexpr const TopicSpec& topic_spec(TopicId id) {
+  return kTopics[static_cast<std::size_t>(id)];
+}
+
+inline constexpr std::size_t topic_index(TopicId id) { return static_cast<std::size_t>(id); }
+
+inline std::optional<TopicId> topic_from_name(std::string_view name) {
+  for (const auto& spec : kTopics) {
+    if (spec.name == name) return spec.id;
+  }
+  return std::nullopt;
+}
+
+}  // namespace mobot::api
