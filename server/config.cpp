@@ -1,0 +1,176 @@
+#include "server/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace mobot::server {
+namespace {
+
+template <class T>
+void check_range(const std::string& key, T value, T min, T max) {
+  if (!(value >= min && value <= max)) {
+    std::ostringstream message;
+    message << key << ": " << value << " is outside the allowed range [" << min << ", " << max
+            << "]";
+    throw ConfigError(message.str());
+  }
+}
+
+// Reads file keys as "section.key" so every message names the full path of the bad key.
+class Reader {
+ public:
+  explicit Reader(YAML::Node root) : root_(std::move(root)) {}
+
+  template <class T>
+  void read(const char* section, const char* key, T& out) const {
+    const YAML::Node node = lookup(section, key);
+    if (!node) return;
+    try {
+      out = node.as<T>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError(path(section, key) + ": expected " + type_name<T>());
+    }
+  }
+
+  void read_number(const char* section, const char* key, double& out, double min,
+                   double max) const {
+    read(section, key, out);
+    check_range(path(section, key), out, min, max);
+  }
+
+  void read_int(const char* section, const char* key, int& out, int min, int max) const {
+    read(section, key, out);
+    check_range(path(section, key), out, min, max);
+  }
+
+  YAML::Node lookup(const char* section, const char* key) const {
+    if (section == nullptr) return root_[key];
+    const YAML::Node parent = root_[section];
+    if (!parent) return {};
+    if (!parent.IsMap()) throw ConfigError(std::string(section) + ": expected a mapping");
+    return parent[key];
+  }
+
+  static std::string path(const char* section, const char* key) {
+    return section == nullptr ? key : std::string(section) + "." + key;
+  }
+
+ private:
+  template <class T>
+  static std::string type_name() {
+    if constexpr (std::is_same_v<T, std::string>) return "a string";
+    if constexpr (std::is_floating_point_v<T>) return "a number";
+    return "an integer";
+  }
+
+  YAML::Node root_;
+};
+
+void read_mux(const Reader& reader, RobotSection& robot) {
+  const YAML::Node sources = reader.lookup(nullptr, "mux");
+  if (!sources) return;
+  if (!sources.IsSequence() || sources.size() == 0) {
+    throw ConfigError("mux: expected a list of {name, priority, timeout_s}");
+  }
+  robot.mux_sources.clear();
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const std::string where = "mux[" + std::to_string(i) + "]";
+    try {
+      control::MuxSource source{sources[i]["name"].as<std::string>(),
+                                sources[i]["priority"].as<int>(),
+                                sources[i]["timeout_s"].as<double>()};
+      check_range(where + ".timeout_s", source.timeout_s, 0.01, 60.0);
+      robot.mux_sources.push_back(std::move(source));
+    } catch (const YAML::Exception&) {
+      throw ConfigError(where + ": expected {name: string, priority: int, timeout_s: number}");
+    }
+  }
+}
+
+}  // namespace
+
+Config load_config(const std::filesystem::path& file) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(file.string() + ": cannot read the config file");
+  } catch (const YAML::Exception& error) {
+    throw ConfigError(file.string() + ": " + error.what());
+  }
+  if (root.IsNull()) return {};
+  if (!root.IsMap()) throw ConfigError(file.string() + ": expected a mapping at the top level");
+
+  Config config;
+  const Reader reader(root);
+  reader.read(nullptr, "backend", config.backend);
+  reader.read(nullptr, "run_name", config.run_name);
+
+  reader.read("server", "bind", config.server.bind_address);
+  int port = config.server.port;
+  reader.read_int("server", "port", port, 0, 65535);
+  config.server.port = static_cast<std::uint16_t>(port);
+  std::string path;
+  reader.read("server", "data_dir", path);
+  if (!path.empty()) config.server.data_dir = path;
+  path.clear();
+  reader.read("server", "web_dir", path);
+  if (!path.empty()) config.server.web_dir = path;
+
+  RobotSection& robot = config.robot;
+  reader.read("robot", "name", robot.name);
+  reader.read("robot", "kinematics", robot.kinematics);
+  reader.read_number("robot", "control_rate_hz", robot.control_rate_hz, 5.0, 200.0);
+  reader.read_number("robot", "laser_rate_hz", robot.laser_rate_hz, 1.0, 40.0);
+  reader.read_number("robot", "sonar_rate_hz", robot.sonar_rate_hz, 1.0, 50.0);
+  reader.read_number("robot", "compass_rate_hz", robot.compass_rate_hz, 1.0, 50.0);
+  reader.read_number("robot", "sensor_timeout_s", robot.sensor_timeout_s, 0.05, 10.0);
+  reader.read_int("robot", "teleop_ttl_ms", robot.teleop_ttl_ms, 50, 1000);
+  reader.read_number("limits", "max_linear_mps", robot.limits.max_linear_mps, 0.01, 10.0);
+  reader.read_number("limits", "max_angular_radps", robot.limits.max_angular_radps, 0.01, 10.0);
+  reader.read_number("limits", "max_linear_accel_mps2", robot.limits.max_linear_accel_mps2, 0.01,
+                     20.0);
+  reader.read_number("limits", "max_angular_accel_radps2", robot.limits.max_angular_accel_radps2,
+                     0.01, 50.0);
+  read_mux(reader, robot);
+
+  reader.read("sim", "world", config.sim.world);
+  path.clear();
+  reader.read("sim", "worlds_dir", path);
+  if (!path.empty()) config.sim.worlds_dir = path;
+  reader.read("sim", "seed", config.sim.seed);
+  reader.read_number("sim", "time_scale", config.sim.time_scale, 0.1, 100.0);
+
+  reader.read_number("recorder", "trajectory_rate_hz", config.recorder.trajectory_rate_hz, 10.0,
+                     100.0);
+  reader.read_int("recorder", "flush_period_ms", config.recorder.flush_period_ms, 10, 5000);
+  reader.read_int("stream", "max_frames_per_topic", config.stream.max_frames_per_topic, 1, 64);
+  validate_config(config);
+  return config;
+}
+
+void validate_config(const Config& config) {
+  if (config.backend != "sim" && config.backend != "hardware") {
+    throw ConfigError("backend: '" + config.backend + "' is not one of sim, hardware");
+  }
+  if (config.robot.kinematics != "differential") {
+    throw ConfigError("robot.kinematics: '" + config.robot.kinematics +
+                      "' is not supported (differential)");
+  }
+  check_range("sim.time_scale", config.sim.time_scale, 0.1, 100.0);
+  check_range("robot.laser_rate_hz", config.robot.laser_rate_hz, 1.0,
+              config.robot.control_rate_hz);
+  bool has_teleop = false;
+  bool has_safety = false;
+  for (const auto& source : config.robot.mux_sources) {
+    has_teleop = has_teleop || source.name == "teleop";
+    has_safety = has_safety || source.name == "safety";
+  }
+  if (!has_teleop || !has_safety) {
+    throw ConfigError("mux: the sources 'safety' and 'teleop' are required");
+  }
+}
+
+}  // namespace mobot::server

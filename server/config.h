@@ -1,0 +1,72 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/control/command_mux.h"
+#include "core/control/velocity_limits.h"
+
+namespace mobot::server {
+
+struct ServerSection {
+  std::string bind_address = "127.0.0.1";
+  std::uint16_t port = 8080;
+  std::filesystem::path data_dir = "var";
+  std::filesystem::path web_dir;  // empty: the dashboard built in the source tree
+};
+
+struct RobotSection {
+  std::string name = "r1";
+  std::string kinematics = "differential";
+  double control_rate_hz = 50.0;
+  double laser_rate_hz = 10.0;
+  double sonar_rate_hz = 10.0;
+  double compass_rate_hz = 10.0;
+  double sensor_timeout_s = 0.5;  // a sensor silent this long stops the robot
+  int teleop_ttl_ms = 300;
+  control::VelocityLimits limits;
+  std::vector<control::MuxSource> mux_sources{
+      {"safety", 10, 0.2}, {"ir_safety", 9, 0.5}, {"teleop", 7, 1.0}, {"navigation", 5, 1.0}};
+};
+
+struct SimSection {
+  std::string world = "office";
+  std::filesystem::path worlds_dir;  // empty: the built-in worlds
+  std::uint64_t seed = 1;
+  double time_scale = 1.0;
+};
+
+struct RecorderSection {
+  double trajectory_rate_hz = 20.0;
+  int flush_period_ms = 200;
+};
+
+struct StreamSection {
+  int max_frames_per_topic = 4;
+};
+
+struct Config {
+  std::string backend = "sim";
+  std::string run_name;
+  std::string extra_admin_token;  // --token: valid for this process only, never stored
+  ServerSection server;
+  RobotSection robot;
+  SimSection sim;
+  RecorderSection recorder;
+  StreamSection stream;
+};
+
+// A config file or flag that is wrong; the message names the key and what it accepts.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+Config load_config(const std::filesystem::path& file);
+// Checks the cross-field rules (after flags are applied); throws ConfigError.
+void validate_config(const Config& config);
+
+}  // namespace mobot::server
