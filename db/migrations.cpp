@@ -1,0 +1,66 @@
+#include "db/migrations.h"
+
+#include <array>
+
+namespace mobot::db {
+namespace {
+
+constexpr std::string_view kInitialSchema = R"sql(
+CREATE TABLE maps (
+  id INTEGER PRIMARY KEY,
+  name TEXT NOT NULL,
+  width INTEGER NOT NULL CHECK (width > 0),
+  height INTEGER NOT NULL CHECK (height > 0),
+  resolution_m REAL NOT NULL CHECK (resolution_m > 0),
+  origin_x REAL NOT NULL,
+  origin_y REAL NOT NULL,
+  origin_theta REAL NOT NULL,
+  cells BLOB NOT NULL,
+  created_unix_s REAL NOT NULL,
+  active INTEGER NOT NULL DEFAULT 0
+);
+CREATE UNIQUE INDEX maps_one_active ON maps (active) WHERE active = 1;
+
+CREATE TABLE runs (
+  id INTEGER PRIMARY KEY,
+  name TEXT NOT NULL,
+  started_unix_s REAL NOT NULL,
+  ended_unix_s REAL,
+  distance_m REAL NOT NULL DEFAULT 0
+);
+
+CREATE TABLE trajectory (
+  run_id INTEGER NOT NULL REFERENCES runs (id) ON DELETE CASCADE,
+  t_s REAL NOT NULL,
+  x REAL NOT NULL,
+  y REAL NOT NULL,
+  theta REAL NOT NULL
+);
+CREATE INDEX trajectory_by_run ON trajectory (run_id, t_s);
+
+CREATE TABLE events (
+  id INTEGER PRIMARY KEY,
+  run_id INTEGER NOT NULL REFERENCES runs (id) ON DELETE CASCADE,
+  t_s REAL NOT NULL,
+  kind TEXT NOT NULL,
+  detail TEXT NOT NULL DEFAULT '{}'
+);
+CREATE INDEX events_by_run ON events (run_id, id);
+
+CREATE TABLE tokens (
+  id INTEGER PRIMARY KEY,
+  hash TEXT NOT NULL UNIQUE,
+  role INTEGER NOT NULL CHECK (role BETWEEN 0 AND 2),
+  label TEXT NOT NULL DEFAULT '',
+  created_unix_s REAL NOT NULL,
+  revoked INTEGER NOT NULL DEFAULT 0
+);
+)sql";
+
+constexpr std::array<std::string_view, 1> kMigrations{kInitialSchema};
+
+}  // namespace
+
+std::span<const std::string_view> schema_migrations() { return kMigrations; }
+
+}  // namespace mobot::db

@@ -1,0 +1,57 @@
+#include "db/token_store.h"
+
+namespace mobot::db {
+
+std::int64_t TokenStore::add(const std::string& hash, Role role, const std::string& label,
+                             double created_unix_s) {
+  return database_.write([&](const Connection& tx) {
+    tx.prepare("INSERT INTO tokens (hash, role, label, created_unix_s) VALUES (?, ?, ?, ?)")
+        .bind(1, hash)
+        .bind(2, static_cast<int>(role))
+        .bind(3, label)
+        .bind(4, created_unix_s)
+        .run();
+    return tx.last_insert_id();
+  });
+}
+
+std::optional<Role> TokenStore::find_role(const std::string& hash) const {
+  return database_.read([&](const Connection& connection) -> std::optional<Role> {
+    Statement row = connection.prepare("SELECT role FROM tokens WHERE hash = ? AND revoked = 0");
+    row.bind(1, hash);
+    if (!row.step()) return std::nullopt;
+    return static_cast<Role>(row.column_int64(0));
+  });
+}
+
+std::vector<TokenRecord> TokenStore::list() const {
+  return database_.read([](const Connection& connection) {
+    Statement rows = connection.prepare(
+        "SELECT id, role, label, created_unix_s, revoked FROM tokens ORDER BY id");
+    std::vector<TokenRecord> out;
+    while (rows.step()) {
+      out.push_back({rows.column_int64(0), static_cast<Role>(rows.column_int64(1)),
+                     rows.column_text(2), rows.column_double(3), rows.column_int64(4) != 0});
+    }
+    return out;
+  });
+}
+
+bool TokenStore::revoke(std::int64_t id) {
+  return database_.write([id](const Connection& tx) {
+    tx.prepare("UPDATE tokens SET revoked = 1 WHERE id = ? AND revoked = 0").bind(1, id).run();
+    return tx.changes() > 0;
+  });
+}
+
+int TokenStore::count_admins() const {
+  return database_.read([](const Connection& connection) {
+    Statement row = connection.prepare(
+        "SELECT COUNT(*) FROM tokens WHERE role = ? AND revoked = 0");
+    row.bind(1, static_cast<int>(Role::kAdmin));
+    row.step();
+    return static_cast<int>(row.column_int64(0));
+  });
+}
+
+}  // namespace mobot::db

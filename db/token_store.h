@@ -1,0 +1,40 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/database.h"
+
+namespace mobot::db {
+
+enum class Role { kViewer = 0, kOperator = 1, kAdmin = 2 };
+
+struct TokenRecord {
+  std::int64_t id = 0;
+  Role role = Role::kViewer;
+  std::string label;
+  double created_unix_s = 0.0;
+  bool revoked = false;
+};
+
+// API tokens, stored only as hashes: a leaked database does not leak a usable token.
+class TokenStore {
+ public:
+  explicit TokenStore(Database& database) : database_(database) {}
+
+  std::int64_t add(const std::string& hash, Role role, const std::string& label,
+                   double created_unix_s);
+  // The role of a live (not revoked) token with this hash.
+  std::optional<Role> find_role(const std::string& hash) const;
+  std::vector<TokenRecord> list() const;
+  // False when no live token has this id.
+  bool revoke(std::int64_t id);
+  int count_admins() const;
+
+ private:
+  Database& database_;
+};
+
+}  // namespace mobot::db
