@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/geometry/pose2d.h"
@@ -69,6 +70,14 @@ struct RunEvent {
   std::string detail_json;
 };
 
+struct TokenInfo {
+  std::int64_t id = 0;
+  Role role = Role::kViewer;
+  std::string label;
+  double created_unix_s = 0.0;
+  bool revoked = false;
+};
+
 struct WorldInfo {
   std::string name;
   std::string description;
@@ -110,6 +119,11 @@ class RobotPort {
   virtual std::vector<RunInfo> list_runs() const = 0;
   virtual std::optional<std::vector<TrajectoryPoint>> run_trajectory(std::int64_t id) const = 0;
   virtual std::optional<std::vector<RunEvent>> run_events(std::int64_t id) const = 0;
+
+  // Token management (admin). create_token returns the id and the plain token, shown only once.
+  virtual std::pair<std::int64_t, std::string> create_token(Role role, const std::string& label) = 0;
+  virtual std::vector<TokenInfo> list_tokens() const = 0;
+  virtual bool revoke_token(std::int64_t id) = 0;
 
   virtual bool is_simulated() const = 0;
   // The simulator endpoints; only called when is_simulated().

@@ -16,6 +16,7 @@ const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders)
   if (!last_) {
     last_ = encoders;
     odometry_.stamp_s = encoders.stamp_s;
+    last_travel_ = {};
     return odometry_;
   }
   const double metres_per_tick = 2.0 * std::numbers::pi / params_.ticks_per_wheel_rev;
@@ -35,6 +36,7 @@ const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders)
   }
   odometry_.stamp_s = encoders.stamp_s;
   travelled_m_ += std::abs((left_m + right_m) / 2.0);
+  last_travel_ = {left_m, right_m};
   last_ = encoders;
   return odometry_;
 }

@@ -16,6 +16,12 @@ struct OdometryParams {
   int ticks_per_wheel_rev = 10000;
 };
 
+// How far each wheel rolled in the last update.
+struct WheelTravel {
+  double left_m = 0.0;
+  double right_m = 0.0;
+};
+
 // Dead reckoning from cumulative encoder counts (ALGORITHMS.md E1), in the odom frame.
 class WheelOdometry {
  public:
@@ -26,6 +32,8 @@ class WheelOdometry {
   const msgs::Odometry& odometry() const { return odometry_; }
   // Distance rolled by the base centre since construction (for run statistics).
   double travelled_m() const { return travelled_m_; }
+  const WheelTravel& last_travel() const { return last_travel_; }
+  const OdometryParams& params() const { return params_; }
   void reset(geometry::Pose2D pose);
 
  private:
@@ -33,6 +41,7 @@ class WheelOdometry {
   std::optional<msgs::WheelEncoders> last_;
   msgs::Odometry odometry_;
   double travelled_m_ = 0.0;
+  WheelTravel last_travel_;
 };
 
 }  // namespace mobot::estimation

@@ -1,0 +1,45 @@
+#include "api/http_server.h"
+
+#include <boost/asio/strand.hpp>
+#include <spdlog/spdlog.h>
+
+#include "api/http_session.h"
+
+namespace mobot::api {
+
+HttpServer::HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, RobotPort& port)
+    : io_(io), rest_(rest), hub_(hub), port_(port), acceptor_(boost::asio::make_strand(io)) {}
+
+boost::asio::ip::tcp::endpoint HttpServer::listen(const HttpOptions& options) {
+  const boost::asio::ip::tcp::endpoint endpoint{
+      boost::asio::ip::make_address(options.bind_address), options.port};
+  acceptor_.open(endpoint.protocol());
+  acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
+  acceptor_.bind(endpoint);
+  acceptor_.listen(boost::asio::socket_base::max_listen_connections);
+  accept_next();
+  return acceptor_.local_endpoint();
+}
+
+void HttpServer::stop() {
+  boost::asio::post(acceptor_.get_executor(), [this] {
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+  });
+}
+
+void HttpServer::accept_next() {
+  acceptor_.async_accept(
+      boost::asio::make_strand(io_),
+      [this](boost::system::error_code error, boost::asio::ip::tcp::socket socket) {
+        if (error == boost::asio::error::operation_aborted) return;
+        if (error) {
+          spdlog::warn("accept failed: {}", error.message());
+        } else {
+          std::make_shared<HttpSession>(std::move(socket), rest_, hub_, port_)->start();
+        }
+        if (acceptor_.is_open()) accept_next();
+      });
+}
+
+}  // namespace mobot::api

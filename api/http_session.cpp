@@ -1,0 +1,150 @@
+#include "api/http_session.h"
+
+#include <boost/asio/dispatch.hpp>
+#include <boost/beast/websocket/rfc6455.hpp>
+#include <chrono>
+
+#include "api/stream_session.h"
+#include "api/websocket_frames.h"
+
+namespace mobot::api {
+namespace {
+
+constexpr auto kIdleTimeout = std::chrono::seconds(60);
+constexpr std::size_t kHeaderLimit = 16 * 1024;
+
+}  // namespace
+
+HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
+                         RobotPort& port)
+    : stream_(std::move(socket)), rest_(rest), hub_(hub), port_(port) {}
+
+void HttpSession::start() {
+  boost::asio::dispatch(stream_.get_executor(),
+                        [self = shared_from_this()] { self->read_header(); });
+}
+
+void HttpSession::read_header() {
+  parser_.emplace();
+  parser_->header_limit(kHeaderLimit);
+  parser_->body_limit(64 * 1024);
+  stream_.expires_after(kIdleTimeout);
+  http::async_read_header(stream_, buffer_, *parser_,
+                          [self = shared_from_this()](boost::beast::error_code error, std::size_t) {
+                            self->on_header(error);
+                          });
+}
+
+void HttpSession::on_header(boost::beast::error_code error) {
+  if (error == http::error::end_of_stream || error) {
+    if (error == http::error::header_limit) {
+      Request bare;
+      send(error_response(bare, 431, "header_too_large", "request header too large"), true);
+      return;
+    }
+    close();
+    return;
+  }
+  const auto& header = parser_->get();
+  parser_->body_limit(RestApi::body_limit(header.method(), header.target()));
+  if (const auto length = parser_->content_length();
+      length && *length > RestApi::body_limit(header.method(), header.target())) {
+    Request bare;
+    bare.version(header.version());
+    send(error_response(bare, 413, "body_too_large", "request body too large"), true);
+    return;
+  }
+  http::async_read(stream_, buffer_, *parser_,
+                   [self = shared_from_this()](boost::beast::error_code read_error, std::size_t) {
+                     self->on_body(read_error);
+                   });
+}
+
+void HttpSession::on_body(boost::beast::error_code error) {
+  if (error == http::error::body_limit) {
+    Request bare;
+    send(error_response(bare, 413, "body_too_large", "request body too large"), true);
+    return;
+  }
+  if (error) {
+    if (error != http::error::end_of_stream && error != boost::beast::error::timeout &&
+        error != boost::asio::error::connection_reset && error != boost::asio::error::eof) {
+      Request bare;
+      send(error_response(bare, 400, "bad_request", error.message()), true);
+      return;
+    }
+    close();
+    return;
+  }
+  Request request = parser_->release();
+  if (boost::beast::websocket::is_upgrade(request)) {
+    upgrade_to_stream(request);
+    return;
+  }
+  Response response = rest_.handle(request);
+  const bool close_after = !response.keep_alive();
+  send(std::move(response), close_after);
+}
+
+void HttpSession::send(Response response, bool close_after) {
+  auto shared = std::make_shared<Response>(std::move(response));
+  if (close_after) shared->keep_alive(false);
+  stream_.expires_after(kIdleTimeout);
+  http::async_write(stream_, *shared,
+                    [self = shared_from_this(), shared, close_after](boost::beast::error_code error,
+                                                                     std::size_t) {
+                      if (error || close_after) {
+                        self->close();
+                        return;
+                      }
+                      self->read_header();
+                    });
+}
+
+void HttpSession::upgrade_to_stream(const Request& request) {
+  if (target_path(request.target()) != "/api/v1/stream") {
+    send(error_response(request, 404, "not_found", "WebSocket is served at /api/v1/stream"), true);
+    return;
+  }
+  const auto role = rest_.stream_role(request);
+  if (!role) {
+    rest_.count_response(401);
+    send(error_response(request, 401, "unauthorized", "missing or unknown ?token="), true);
+    return;
+  }
+  const auto key = request[http::field::sec_websocket_key];
+  if (key.empty() || request[http::field::sec_websocket_version] != "13") {
+    send(error_response(request, 400, "bad_upgrade", "WebSocket version 13 with a key is required"),
+         true);
+    return;
+  }
+  rest_.count_response(101);
+  auto handshake = std::make_shared<std::string>(
+      "HTTP/1.1 101 Switching Protocols\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Accept: " +
+      websocket_accept_key(key) + "\r\nServer: mobotd\r\n\r\n");
+  stream_.expires_never();
+  boost::asio::async_write(
+      stream_, boost::asio::buffer(*handshake),
+      [self = shared_from_this(), handshake, role = *role](boost::beast::error_code error,
+                                                            std::size_t) {
+        if (error) {
+          self->close();
+          return;
+        }
+        const auto pending = self->buffer_.data();
+        std::string already_received(static_cast<const char*>(pending.data()), pending.size());
+        auto session = std::make_shared<StreamSession>(self->stream_.release_socket(), self->hub_,
+                                                       self->port_, role,
+                                                       std::move(already_received));
+        session->start();
+      });
+}
+
+void HttpSession::close() {
+  boost::beast::error_code ignored;
+  stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+  stream_.close();
+}
+
+}  // namespace mobot::api

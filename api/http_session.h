@@ -1,0 +1,41 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+
+#include "api/http_types.h"
+#include "api/rest_api.h"
+#include "api/robot_port.h"
+#include "api/stream_hub.h"
+
+namespace mobot::api {
+
+// One HTTP/1.1 connection with keep-alive. Reads the header first so the body limit can depend on
+// the endpoint (8 MiB for map import, 64 KiB otherwise), answers REST requests, and hands the
+// socket to a StreamSession on a WebSocket upgrade of /api/v1/stream.
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
+              RobotPort& port);
+  void start();
+
+ private:
+  void read_header();
+  void on_header(boost::beast::error_code error);
+  void on_body(boost::beast::error_code error);
+  void send(Response response, bool close_after);
+  void upgrade_to_stream(const Request& request);
+  void close();
+
+  boost::beast::tcp_stream stream_;
+  boost::beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  RestApi& rest_;
+  StreamHub& hub_;
+  RobotPort& port_;
+};
+
+}  // namespace mobot::api

@@ -1,0 +1,26 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <boost/beast/http.hpp>
+#include <nlohmann/json.hpp>
+
+namespace mobot::api {
+
+namespace http = boost::beast::http;
+using Request = http::request<http::string_body>;
+using Response = http::response<http::string_body>;
+
+Response json_response(const Request& request, http::status status, const nlohmann::json& body);
+Response error_response(const Request& request, int status, const std::string& code,
+                        const std::string& message);
+Response bytes_response(const Request& request, http::status status, std::string_view content_type,
+                        std::string body);
+
+// The target split into its path and the value of one query parameter (percent-decoded).
+std::string_view target_path(std::string_view target);
+std::string query_parameter(std::string_view target, std::string_view name);
+std::string percent_decode(std::string_view text);
+
+}  // namespace mobot::api

@@ -1,0 +1,189 @@
+#include "api/rest_api.h"
+
+#include <charconv>
+
+#include "api/api_error.h"
+#include "api/frame_codec.h"
+#include "api/json_request.h"
+#include "api/openapi_document.h"
+
+namespace mobot::api {
+namespace {
+
+constexpr std::size_t kDefaultBodyLimit = 64 * 1024;
+constexpr std::size_t kMapImportBodyLimit = 8 * 1024 * 1024;
+
+std::vector<std::string_view> split_path(std::string_view path) {
+  std::vector<std::string_view> segments;
+  while (!path.empty()) {
+    const auto slash = path.find('/');
+    const std::string_view segment = path.substr(0, slash);
+    if (!segment.empty()) segments.push_back(segment);
+    if (slash == std::string_view::npos) break;
+    path.remove_prefix(slash + 1);
+  }
+  return segments;
+}
+
+std::string bearer_token(const Request& request) {
+  const auto header = request[http::field::authorization];
+  constexpr std::string_view kPrefix = "Bearer ";
+  if (header.size() <= kPrefix.size() || !header.starts_with(kPrefix)) return {};
+  return std::string(header.substr(kPrefix.size()));
+}
+
+[[noreturn]] void method_not_allowed() {
+  throw ApiError(405, "method_not_allowed", "this method is not allowed on this path");
+}
+
+}  // namespace
+
+std::optional<std::int64_t> parse_id(std::string_view text) {
+  std::int64_t id = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), id);
+  if (error != std::errc{} || end != text.data() + text.size() || id <= 0) return std::nullopt;
+  return id;
+}
+
+RestApi::RestApi(RobotPort& port, StreamHub& hub, RestOptions options)
+    : port_(port), hub_(hub), options_(std::move(options)) {}
+
+std::size_t RestApi::body_limit(http::verb method, std::string_view target) {
+  const std::string_view path = target_path(target);
+  if (method == http::verb::post && (path == "/api/v1/maps" || path == "/api/v1/maps/")) {
+    return kMapImportBodyLimit;
+  }
+  return kDefaultBodyLimit;
+}
+
+Response RestApi::handle(const Request& request) {
+  const std::string_view path = target_path(request.target());
+  Response response;
+  try {
+    if (path == "/metrics" || path.starts_with("/api/")) {
+      response = route(request, split_path(path));
+    } else {
+      response = serve_static(request, path);
+    }
+  } catch (const ApiError& error) {
+    response = error_response(request, error.http_status(), error.code(), error.what());
+  } catch (const std::exception& error) {
+    response = error_response(request, 500, "internal_error", error.what());
+  }
+  count_response(response.result_int());
+  return response;
+}
+
+void RestApi::count_response(unsigned status) {
+  const std::size_t status_class = std::min<std::size_t>(status / 100, 5);
+  responses_by_class_[status_class].fetch_add(1, std::memory_order_relaxed);
+}
+
+Role RestApi::require_role(const Request& request, Role needed) const {
+  const std::string token = bearer_token(request);
+  if (token.empty()) throw ApiError(401, "unauthorized", "missing bearer token");
+  const auto role = port_.authenticate(token);
+  if (!role) throw ApiError(401, "unauthorized", "unknown token");
+  if (*role < needed) {
+    throw ApiError(403, "forbidden",
+                   needed == Role::kAdmin ? "this needs the admin role"
+                                          : "this needs the operator role");
+  }
+  return *role;
+}
+
+std::optional<Role> RestApi::stream_role(const Request& request) const {
+  const std::string token = query_parameter(request.target(), "token");
+  if (token.empty()) return std::nullopt;
+  return port_.authenticate(token);
+}
+
+Response RestApi::route(const Request& request, const Segments& path) {
+  const auto method = request.method();
+  if (path.size() == 1 && path[0] == "metrics") {
+    if (method != http::verb::get) method_not_allowed();
+    require_role(request, Role::kViewer);
+    return metrics(request);
+  }
+  if (path.size() < 3 || path[0] != "api" || path[1] != "v1") {
+    throw ApiError(404, "not_found", "no such endpoint");
+  }
+  const std::string_view resource = path[2];
+  if (resource == "health" && path.size() == 3) {
+    if (method != http::verb::get) method_not_allowed();
+    return health(request);
+  }
+  if (resource == "maps") return route_maps(request, path);
+  if (resource == "runs") return route_runs(request, path);
+  if (resource == "sim" || resource == "worlds") return route_sim(request, path);
+  if (resource == "tokens") return route_tokens(request, path);
+  if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
+  if (resource == "robot") {
+    if (method != http::verb::get) method_not_allowed();
+    require_role(request, Role::kViewer);
+    return robot(request);
+  }
+  if (resource == "openapi.json") {
+    if (method != http::verb::get) method_not_allowed();
+    require_role(request, Role::kViewer);
+    return openapi(request);
+  }
+  if (resource == "teleop") {
+    if (method != http::verb::post) method_not_allowed();
+    require_role(request, Role::kOperator);
+    return teleop(request);
+  }
+  if (resource == "estop") {
+    if (method != http::verb::post) method_not_allowed();
+    require_role(request, Role::kOperator);
+    return estop(request);
+  }
+  throw ApiError(404, "not_found", "no such endpoint");
+}
+
+Response RestApi::health(const Request& request) const {
+  return json_response(request, http::status::ok,
+                       {{"status", "ok"},
+                        {"version", options_.version},
+                        {"backend", port_.backend_name()},
+                        {"uptime_s", port_.uptime_s()}});
+}
+
+Response RestApi::robot(const Request& request) const {
+  return json_response(request, http::status::ok, snapshot_json(port_.snapshot()));
+}
+
+Response RestApi::teleop(const Request& request) {
+  const TeleopRequest command = parse_teleop(parse_json_body(request.body()));
+  const msgs::Twist applied = port_.teleop(command.twist, command.ttl_ms);
+  return json_response(request, http::status::ok,
+                       {{"v", applied.linear_mps}, {"w", applied.angular_radps}});
+}
+
+Response RestApi::estop(const Request& request) {
+  const bool engaged = require_bool(parse_json_body(request.body()), "engaged");
+  return json_response(request, http::status::ok, {{"estop", port_.set_estop(engaged)}});
+}
+
+Response RestApi::metrics(const Request& request) const {
+  return bytes_response(request, http::status::ok, "text/plain; version=0.0.4",
+                        metrics_text() + hub_.metrics_text() + port_.metrics_text());
+}
+
+std::string RestApi::metrics_text() const {
+  std::string out;
+  out += "# HELP mobot_http_responses_total HTTP responses by status class.\n";
+  out += "# TYPE mobot_http_responses_total counter\n";
+  for (std::size_t status_class = 1; status_class <= 5; ++status_class) {
+    out += "mobot_http_responses_total{code=\"" + std::to_string(status_class) + "xx\"} " +
+           std::to_string(responses_by_class_[status_class].load()) + "\n";
+  }
+  return out;
+}
+
+Response RestApi::openapi(const Request& request) const {
+  return bytes_response(request, http::status::ok, "application/json",
+                        std::string(openapi_document()));
+}
+
+}  // namespace mobot::api
