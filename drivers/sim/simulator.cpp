@@ -1,0 +1,321 @@
+#include "drivers/sim/simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/kinematics/diff_drive.h"
+#include "drivers/sim/world_slice.h"
+
+namespace mobot::sim {
+namespace {
+
+// A substep moves no point of the body further than this, so it cannot jump through a one-cell
+// wall and a collision is found close to where it happens.
+constexpr double kMaxSubstepTravel_m = 0.02;
+// Bisections that place a colliding robot against the obstacle: 0.02 m / 2^10 = 0.02 mm.
+constexpr int kContactBisections = 10;
+constexpr int kSonarRaysPerCone = 7;
+constexpr double kNoReturnBeyondMax_m = 1.0;
+
+enum class Stream : std::uint32_t { kDrive = 1, kLaser, kSonar, kCompass };
+
+std::mt19937_64 random_stream(std::uint64_t seed, Stream stream) {
+  std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                         static_cast<std::uint32_t>(stream)};
+  return std::mt19937_64(sequence);
+}
+
+double gaussian(std::mt19937_64& rng, double sigma) {
+  if (sigma <= 0.0) return 0.0;
+  return std::normal_distribution<double>(0.0, sigma)(rng);
+}
+
+RobotProfile validated(RobotProfile p) {
+  const auto positive = [](double value) { return std::isfinite(value) && value > 0.0; };
+  if (!positive(p.wheel_radius_m) || !positive(p.track_m) || p.ticks_per_wheel_rev <= 0 ||
+      !positive(p.footprint_length_m) || !positive(p.footprint_width_m) || !positive(p.height_m) ||
+      !positive(p.laser_step_rad) || !positive(p.laser_fov_rad) ||
+      !positive(p.laser_range_max_m) || !positive(p.sonar_range_max_m) ||
+      !positive(p.left_wheel_scale) || !positive(p.right_wheel_scale) ||
+      !positive(p.track_scale) || !positive(p.max_linear_mps) || !positive(p.max_angular_radps)) {
+    throw std::invalid_argument("robot profile: geometry, ranges, scales and limits must be > 0");
+  }
+  return p;
+}
+
+msgs::Twist clamp_command(const msgs::Twist& command, const RobotProfile& profile) {
+  if (!std::isfinite(command.linear_mps) || !std::isfinite(command.angular_radps)) return {};
+  return {std::clamp(command.linear_mps, -profile.max_linear_mps, profile.max_linear_mps),
+          std::clamp(command.angular_radps, -profile.max_angular_radps,
+                     profile.max_angular_radps)};
+}
+
+}  // namespace
+
+Simulator::Simulator(World world, RobotProfile profile, std::uint64_t seed)
+    : world_(std::move(world)),
+      profile_(validated(std::move(profile))),
+      laser_plane_(slice_at_height(world_, profile_.laser_height_m)),
+      body_(world_, profile_.footprint_length_m, profile_.footprint_width_m, profile_.height_m) {
+  reset(world_.start, seed);
+}
+
+void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
+  pose_ = {pose.x, pose.y, geometry::wrap_angle(pose.theta)};
+  time_s_ = 0.0;
+  command_ = {};
+  wheel_angles_ = {};
+  collisions_.clear();
+  collision_count_ = 0;
+  in_contact_ = false;
+  obstacles_.clear();
+  next_obstacle_id_ = 1;
+  drive_rng_ = random_stream(seed, Stream::kDrive);
+  laser_rng_ = random_stream(seed, Stream::kLaser);
+  sonar_rng_ = random_stream(seed, Stream::kSonar);
+  compass_rng_ = random_stream(seed, Stream::kCompass);
+  // Start the PID error in its stationary distribution.
+  left_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
+  right_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
+}
+
+void Simulator::set_command(const msgs::Twist& command) {
+  command_ = clamp_command(command, profile_);
+}
+
+void Simulator::step(double dt_s) {
+  if (!std::isfinite(dt_s) || dt_s < 0.0) {
+    throw std::invalid_argument("simulator step needs a finite dt_s >= 0");
+  }
+  if (dt_s == 0.0) return;
+  update_wheel_noise(dt_s);
+  // The motor controllers turn each wheel at the speed the nominal geometry asks for, give or take
+  // the PID error; the true radii then decide how far the robot rolls.
+  const kinematics::WheelSpeeds wheel_mps = kinematics::wheels_from_twist(command_, profile_.track_m);
+  const WheelAngles rotation{
+      wheel_mps.left_mps / profile_.wheel_radius_m * (1.0 + left_speed_error_) * dt_s,
+      wheel_mps.right_mps / profile_.wheel_radius_m * (1.0 + right_speed_error_) * dt_s};
+
+  const double half_diagonal_m =
+      std::hypot(profile_.footprint_length_m, profile_.footprint_width_m) / 2.0;
+  const geometry::Pose2D full = pose_after(pose_, rotation, 1.0);
+  const double travel_m = std::hypot(full.x - pose_.x, full.y - pose_.y) +
+                          std::abs(geometry::wrap_angle(full.theta - pose_.theta)) * half_diagonal_m;
+  const int substeps = std::max(1, static_cast<int>(std::ceil(travel_m / kMaxSubstepTravel_m)));
+  const WheelAngles slice{rotation.left_rad / substeps, rotation.right_rad / substeps};
+  for (int i = 0; i < substeps; ++i) {
+    if (!drive_substep(slice)) break;
+  }
+  time_s_ += dt_s;
+}
+
+void Simulator::update_wheel_noise(double dt_s) {
+  // First-order Gauss-Markov: the PID error wanders with a correlation time instead of changing
+  // every step, so its effect on the path does not depend on the step length.
+  const double sigma = profile_.wheel_speed_noise_fraction;
+  const double tau_s = profile_.wheel_speed_noise_correlation_s;
+  const double keep = tau_s > 0.0 ? std::exp(-dt_s / tau_s) : 0.0;
+  const double innovation_sigma = sigma * std::sqrt(1.0 - keep * keep);
+  left_speed_error_ = keep * left_speed_error_ + gaussian(drive_rng_, innovation_sigma);
+  right_speed_error_ = keep * right_speed_error_ + gaussian(drive_rng_, innovation_sigma);
+}
+
+geometry::Pose2D Simulator::pose_after(const geometry::Pose2D& start, const WheelAngles& rotation,
+                                       double fraction) const {
+  const double left_travel_m =
+      rotation.left_rad * fraction * profile_.wheel_radius_m * profile_.left_wheel_scale;
+  const double right_travel_m =
+      rotation.right_rad * fraction * profile_.wheel_radius_m * profile_.right_wheel_scale;
+  return kinematics::integrate_wheel_travel(start, left_travel_m, right_travel_m,
+                                            profile_.track_m * profile_.track_scale);
+}
+
+bool Simulator::drive_substep(const WheelAngles& rotation) {
+  const geometry::Pose2D start = pose_;
+  const geometry::Pose2D candidate = pose_after(start, rotation, 1.0);
+  const std::optional<std::string> hit = contact(candidate);
+  // A robot already overlapping something (an obstacle dropped onto it) may drive out of it.
+  if (!hit || contact(start)) {
+    const bool moved = rotation.left_rad != 0.0 || rotation.right_rad != 0.0;
+    if (moved && !hit) in_contact_ = false;
+    pose_ = candidate;
+    wheel_angles_.left_rad += rotation.left_rad;
+    wheel_angles_.right_rad += rotation.right_rad;
+    return true;
+  }
+  // Stop against the obstacle: the largest fraction of the substep that stays free.
+  double free_fraction = 0.0;
+  double blocked_fraction = 1.0;
+  for (int i = 0; i < kContactBisections; ++i) {
+    const double middle = (free_fraction + blocked_fraction) / 2.0;
+    if (contact(pose_after(start, rotation, middle))) {
+      blocked_fraction = middle;
+    } else {
+      free_fraction = middle;
+    }
+  }
+  pose_ = pose_after(start, rotation, free_fraction);
+  wheel_angles_.left_rad += rotation.left_rad * free_fraction;
+  wheel_angles_.right_rad += rotation.right_rad * free_fraction;
+  record_collision(*hit);
+  return false;
+}
+
+void Simulator::record_collision(const std::string& with) {
+  command_ = {};
+  if (!in_contact_) {
+    collisions_.push_back({with, pose_});
+    ++collision_count_;
+  }
+  in_contact_ = true;
+}
+
+std::vector<Collision> Simulator::take_collisions() {
+  std::vector<Collision> taken;
+  taken.swap(collisions_);
+  return taken;
+}
+
+std::optional<std::string> Simulator::contact(const geometry::Pose2D& pose) const {
+  const OrientedRect footprint = body_.footprint_at(pose);
+  for (const Obstacle& obstacle : obstacles_) {
+    if (overlaps_circle(footprint, {obstacle.x_m, obstacle.y_m}, obstacle.radius_m)) {
+      return "obstacle " + std::to_string(obstacle.id);
+    }
+  }
+  return body_.contact(pose);
+}
+
+bool Simulator::pose_collides(const geometry::Pose2D& pose) const {
+  return contact(pose).has_value();
+}
+
+msgs::WheelEncoders Simulator::read_encoders() {
+  const double ticks_per_rad =
+      static_cast<double>(profile_.ticks_per_wheel_rev) / (2.0 * std::numbers::pi);
+  return {time_s_, static_cast<std::int64_t>(std::floor(wheel_angles_.left_rad * ticks_per_rad)),
+          static_cast<std::int64_t>(std::floor(wheel_angles_.right_rad * ticks_per_rad))};
+}
+
+std::optional<double> Simulator::nearest_in_plane(geometry::Point2D from, double angle_rad,
+                                                  double max_range_m) const {
+  std::optional<double> nearest = laser_plane_.cast(from, angle_rad, max_range_m);
+  for (const Obstacle& obstacle : obstacles_) {
+    if (obstacle.height_m < profile_.laser_height_m) continue;
+    const std::optional<double> hit =
+        cast_to_circle(from, angle_rad, {obstacle.x_m, obstacle.y_m}, obstacle.radius_m);
+    if (hit && *hit <= max_range_m && (!nearest || *hit < *nearest)) nearest = hit;
+  }
+  return nearest;
+}
+
+void Simulator::add_obstacles_to_fan(geometry::Point2D from, double first_angle_rad,
+                                     double increment_rad, std::span<double> ranges_m) const {
+  const int beams = static_cast<int>(ranges_m.size());
+  for (const Obstacle& obstacle : obstacles_) {
+    if (obstacle.height_m < profile_.laser_height_m) continue;
+    const double dx_m = obstacle.x_m - from.x;
+    const double dy_m = obstacle.y_m - from.y;
+    const double distance_m = std::hypot(dx_m, dy_m);
+    if (distance_m <= obstacle.radius_m) {
+      std::fill(ranges_m.begin(), ranges_m.end(), 0.0);  // the sensor is inside the obstacle
+      return;
+    }
+    // Only the beams within the obstacle's angular half-width can hit it. Its bearing is taken
+    // relative to the first beam, also one turn either way, so a full-circle scan's seam is covered.
+    const double half_width_rad = std::asin(obstacle.radius_m / distance_m);
+    const double bearing_rad =
+        geometry::wrap_angle(std::atan2(dy_m, dx_m) - first_angle_rad) + std::numbers::pi;
+    for (const double turn_rad : {-2.0 * std::numbers::pi, 0.0, 2.0 * std::numbers::pi}) {
+      const double relative_rad = bearing_rad - std::numbers::pi + turn_rad;
+      const int first = std::max(0, static_cast<int>(std::ceil((relative_rad - half_width_rad) / increment_rad)));
+      const int last = std::min(beams - 1, static_cast<int>(std::floor((relative_rad + half_width_rad) / increment_rad)));
+      for (int i = first; i <= last; ++i) {
+        const std::optional<double> hit = cast_to_circle(
+            from, first_angle_rad + i * increment_rad, {obstacle.x_m, obstacle.y_m}, obstacle.radius_m);
+        auto& range_m = ranges_m[static_cast<std::size_t>(i)];
+        if (hit) range_m = std::min(range_m, *hit);
+      }
+    }
+  }
+}
+
+msgs::LaserScan Simulator::read_laser() {
+  msgs::LaserScan scan;
+  scan.stamp_s = time_s_;
+  scan.angle_min_rad = static_cast<float>(-profile_.laser_fov_rad / 2.0);
+  scan.angle_increment_rad = static_cast<float>(profile_.laser_step_rad);
+  scan.range_min_m = static_cast<float>(profile_.laser_range_min_m);
+  scan.range_max_m = static_cast<float>(profile_.laser_range_max_m);
+  scan.sensor_in_base = profile_.laser_in_base;
+
+  const geometry::Pose2D laser = geometry::compose(pose_, profile_.laser_in_base);
+  const int beams =
+      static_cast<int>(std::lround(profile_.laser_fov_rad / profile_.laser_step_rad)) + 1;
+  const double first_angle_rad = laser.theta - profile_.laser_fov_rad / 2.0;
+  std::vector<double> hits_m(static_cast<std::size_t>(beams));
+  laser_plane_.cast_fan({laser.x, laser.y}, first_angle_rad, profile_.laser_step_rad,
+                        profile_.laser_range_max_m, hits_m);
+  add_obstacles_to_fan({laser.x, laser.y}, first_angle_rad, profile_.laser_step_rad, hits_m);
+
+  scan.ranges_m.reserve(hits_m.size());
+  for (const double hit_m : hits_m) {
+    const double range_m =
+        hit_m <= profile_.laser_range_max_m
+            ? std::max(0.0, hit_m + gaussian(laser_rng_, profile_.laser_range_sigma_m))
+            : profile_.laser_range_max_m + kNoReturnBeyondMax_m;
+    scan.ranges_m.push_back(static_cast<float>(range_m));
+  }
+  return scan;
+}
+
+msgs::SonarRing Simulator::read_sonar() {
+  msgs::SonarRing ring;
+  ring.stamp_s = time_s_;
+  const double half_cone_rad = profile_.sonar_cone_rad / 2.0;
+  for (const geometry::Pose2D& mount : profile_.sonars_in_base) {
+    const geometry::Pose2D sonar = geometry::compose(pose_, mount);
+    std::optional<double> nearest;
+    for (int k = 0; k < kSonarRaysPerCone; ++k) {
+      const double offset_rad =
+          -half_cone_rad + profile_.sonar_cone_rad * k / (kSonarRaysPerCone - 1);
+      const std::optional<double> hit =
+          nearest_in_plane({sonar.x, sonar.y}, sonar.theta + offset_rad, profile_.sonar_range_max_m);
+      if (hit && (!nearest || *hit < *nearest)) nearest = hit;
+    }
+    double range_m = profile_.sonar_range_max_m;
+    if (nearest) {
+      const double noisy_m = *nearest * (1.0 + gaussian(sonar_rng_, profile_.sonar_noise_fraction));
+      range_m = std::clamp(noisy_m, profile_.sonar_range_min_m, profile_.sonar_range_max_m);
+    }
+    ring.readings.push_back({mount, profile_.sonar_cone_rad, profile_.sonar_range_min_m,
+                             profile_.sonar_range_max_m, range_m});
+  }
+  return ring;
+}
+
+msgs::CompassReading Simulator::read_compass() {
+  return {time_s_,
+          geometry::wrap_angle(pose_.theta + gaussian(compass_rng_, profile_.compass_sigma_rad))};
+}
+
+int Simulator::add_obstacle(double x_m, double y_m, double radius_m, double height_m) {
+  if (!std::isfinite(x_m) || !std::isfinite(y_m) || !std::isfinite(radius_m) ||
+      !std::isfinite(height_m) || radius_m <= 0.0 || height_m <= 0.0) {
+    throw std::invalid_argument("obstacle needs a finite position and a positive radius and height");
+  }
+  obstacles_.push_back({next_obstacle_id_, x_m, y_m, radius_m, height_m});
+  return next_obstacle_id_++;
+}
+
+bool Simulator::remove_obstacle(int id) {
+  const auto removed = std::remove_if(obstacles_.begin(), obstacles_.end(),
+                                      [id](const Obstacle& o) { return o.id == id; });
+  if (removed == obstacles_.end()) return false;
+  obstacles_.erase(removed, obstacles_.end());
+  return true;
+}
+
+}  // namespace mobot::sim

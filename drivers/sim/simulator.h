@@ -1,0 +1,132 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/geometry/pose2d.h"
+#include "core/msgs/compass_reading.h"
+#include "core/msgs/laser_scan.h"
+#include "core/msgs/sonar_ring.h"
+#include "core/msgs/twist.h"
+#include "core/msgs/wheel_encoders.h"
+#include "drivers/sim/body_collider.h"
+#include "drivers/sim/ray_caster.h"
+#include "drivers/sim/robot_profile.h"
+#include "drivers/sim/world.h"
+
+namespace mobot::sim {
+
+struct Collision {
+  std::string with;  // "wall", a box name, or "obstacle <id>"
+  geometry::Pose2D pose;  // where the robot stopped
+};
+
+// A cylinder standing on the floor, dropped into the world at run time.
+struct Obstacle {
+  int id = 0;
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double radius_m = 0.0;
+  double height_m = 0.0;
+};
+
+// The simulated robot in its world: true pose, drive with systematic and random wheel errors, and
+// the sensors of the profile. Deterministic for a given seed and call sequence: no wall clock, no
+// threads. Each noise source draws from its own random stream, so reading a sensor more or less
+// often does not change how the robot drives.
+class Simulator {
+ public:
+  // The robot starts at world.start.
+  Simulator(World world, RobotProfile profile, std::uint64_t seed);
+
+  // Advances time by dt_s (>= 0, else std::invalid_argument) and drives the robot with the
+  // commanded body velocity, clamped to the profile limits. The body never enters an obstacle: on
+  // contact it stops where it touches, the command drops to zero until the next set_command, and a
+  // Collision is queued. Pushing on against an obstacle without having moved freely since the last
+  // collision is blocked but not counted again.
+  void step(double dt_s);
+  double time_s() const { return time_s_; }
+
+  void set_command(const msgs::Twist& command);
+  // The command in force: clamped, and zero after a collision.
+  msgs::Twist command() const { return command_; }
+
+  geometry::Pose2D true_pose() const { return pose_; }
+  int collision_count() const { return collision_count_; }
+  // The queued collisions, oldest first; the queue is left empty.
+  std::vector<Collision> take_collisions();
+
+  // Cumulative ticks of the true wheel rotations, stamped time_s.
+  msgs::WheelEncoders read_encoders();
+  // Ray cast in the laser plane against walls, boxes whose z range contains the laser height and
+  // obstacles at least that tall; gaussian range noise. No return reads range_max_m + 1.
+  msgs::LaserScan read_laser();
+  // Per sonar the nearest echo across its cone (several rays); range_max_m when nothing echoes.
+  msgs::SonarRing read_sonar();
+  // True heading plus gaussian noise, wrapped.
+  msgs::CompassReading read_compass();
+
+  // Whether the body at `pose` would touch a wall, a box or an obstacle (or leave the floor plan).
+  bool pose_collides(const geometry::Pose2D& pose) const;
+
+  // Adds a cylinder (radius and height > 0 and finite, else std::invalid_argument); ids count
+  // from 1 after construction or reset. Returns the id.
+  int add_obstacle(double x_m, double y_m, double radius_m, double height_m);
+  bool remove_obstacle(int id);
+  const std::vector<Obstacle>& obstacles() const { return obstacles_; }
+
+  // Puts the robot at `pose` at time 0 with encoders, collisions and obstacles cleared, the
+  // command zero and the random streams reseeded.
+  void reset(const geometry::Pose2D& pose, std::uint64_t seed);
+
+  const World& world() const { return world_; }
+  const RobotProfile& profile() const { return profile_; }
+
+ private:
+  struct WheelAngles {
+    double left_rad = 0.0;
+    double right_rad = 0.0;
+  };
+
+  void update_wheel_noise(double dt_s);
+  // Moves through one slice of the step's wheel rotation; false when it ended in a collision.
+  bool drive_substep(const WheelAngles& rotation);
+  geometry::Pose2D pose_after(const geometry::Pose2D& start, const WheelAngles& rotation,
+                              double fraction) const;
+  std::optional<std::string> contact(const geometry::Pose2D& pose) const;
+  void record_collision(const std::string& with);
+  // Lowers the fan's ranges where a beam meets an obstacle at least as tall as the laser plane.
+  void add_obstacles_to_fan(geometry::Point2D from, double first_angle_rad, double increment_rad,
+                            std::span<double> ranges_m) const;
+  // Nearest hit in the laser plane: static world and obstacles at least as tall as the plane.
+  std::optional<double> nearest_in_plane(geometry::Point2D from, double angle_rad,
+                                         double max_range_m) const;
+
+  World world_;
+  RobotProfile profile_;
+  RayCaster laser_plane_;
+  BodyCollider body_;
+
+  geometry::Pose2D pose_;
+  double time_s_ = 0.0;
+  msgs::Twist command_;
+  WheelAngles wheel_angles_;
+  double left_speed_error_ = 0.0;   // fraction of the commanded wheel speed
+  double right_speed_error_ = 0.0;
+  std::vector<Collision> collisions_;
+  int collision_count_ = 0;
+  bool in_contact_ = false;  // collided and has not moved freely since
+  std::vector<Obstacle> obstacles_;
+  int next_obstacle_id_ = 1;
+
+  std::mt19937_64 drive_rng_;
+  std::mt19937_64 laser_rng_;
+  std::mt19937_64 sonar_rng_;
+  std::mt19937_64 compass_rng_;
+};
+
+}  // namespace mobot::sim

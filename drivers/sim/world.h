@@ -1,0 +1,65 @@
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/geometry/pose2d.h"
+#include "core/mapping/occupancy_grid.h"
+
+namespace mobot::sim {
+
+// An axis-aligned box in the map frame with a height range: a gate beam, a table top, a cabinet.
+struct Box3D {
+  double min_x_m = 0.0;
+  double min_y_m = 0.0;
+  double max_x_m = 0.0;
+  double max_y_m = 0.0;
+  double min_z_m = 0.0;
+  double max_z_m = 0.0;
+  std::string name;
+};
+
+// A red cylinder at a known position, used as a bearing landmark (E2 measurement 3).
+struct Landmark {
+  std::string name;
+  double x_m = 0.0;
+  double y_m = 0.0;
+};
+
+struct World {
+  std::string name;
+  std::string description;
+  geometry::Pose2D start;  // where the robot starts
+  // Walls from the floor-plan image: full-height obstacles. This is what the server stores as the
+  // world's map.
+  mapping::OccupancyGrid floor;
+  std::vector<Box3D> boxes;  // 3D objects that the floor plan does not show
+  std::vector<Landmark> landmarks;
+};
+
+class WorldError : public std::runtime_error {
+ public:
+  using runtime_error::runtime_error;
+};
+
+struct WorldSummary {
+  std::string name;
+  std::string description;
+};
+
+// A built-in name ("office") -> worlds_dir/office/world.yaml; a path to a .yaml file -> itself.
+// Throws WorldError when neither exists.
+std::filesystem::path resolve_world(const std::filesystem::path& worlds_dir,
+                                    const std::string& name_or_path);
+
+// Reads a world YAML (ROS map_server keys plus start, boxes and landmarks) and its floor-plan
+// image. Throws WorldError naming the file and the key on any problem.
+World load_world(const std::filesystem::path& world_yaml);
+
+// The worlds found as worlds_dir/NAME/world.yaml, sorted by name (the directory name, which is what
+// resolve_world accepts). A missing directory has no worlds.
+std::vector<WorldSummary> list_worlds(const std::filesystem::path& worlds_dir);
+
+}  // namespace mobot::sim

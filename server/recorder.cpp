@@ -1,0 +1,123 @@
+#include "server/recorder.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+namespace mobot::server {
+
+Recorder::Recorder(db::RunStore& runs, std::int64_t run_id, int flush_period_ms)
+    : runs_(runs), run_id_(run_id), flush_period_ms_(flush_period_ms), writer_([this] { run(); }) {}
+
+Recorder::~Recorder() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (writer_.joinable()) writer_.join();
+}
+
+void Recorder::record_pose(double t_s, double x, double y, double theta) {
+  std::lock_guard lock(mutex_);
+  samples_.push_back({t_s, x, y, theta});
+}
+
+void Recorder::record_event(double t_s, std::string kind, std::string detail_json) {
+  std::lock_guard lock(mutex_);
+  events_.push_back({t_s, std::move(kind), std::move(detail_json)});
+}
+
+void Recorder::set_distance(double distance_m) {
+  std::lock_guard lock(mutex_);
+  distance_m_ = distance_m;
+}
+
+void Recorder::flush() {
+  std::unique_lock lock(mutex_);
+  if (stopping_ && !writer_.joinable()) return;
+  const std::uint64_t target = generation_ + 1;
+  flush_requested_ = true;
+  wake_.notify_all();
+  flushed_.wait(lock, [&] { return generation_ >= target || !writer_.joinable(); });
+}
+
+void Recorder::stop(double ended_unix_s) {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (writer_.joinable()) writer_.join();
+  double distance_m = 0.0;
+  {
+    std::lock_guard lock(mutex_);
+    distance_m = distance_m_;
+  }
+  try {
+    runs_.end_run(run_id_, ended_unix_s, distance_m);
+  } catch (const std::exception& error) {
+    spdlog::error("could not close run {}: {}", run_id_, error.what());
+  }
+}
+
+void Recorder::run() {
+  std::unique_lock lock(mutex_);
+  while (true) {
+    wake_.wait_for(lock, std::chrono::milliseconds(flush_period_ms_),
+                   [&] { return stopping_ || flush_requested_; });
+    write_batch(lock);
+    if (stopping_) break;
+  }
+}
+
+void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
+  std::vector<db::TrajectorySample> samples;
+  std::vector<db::EventRecord> events;
+  samples.swap(samples_);
+  events.swap(events_);
+  const double distance_m = distance_m_;
+  flush_requested_ = false;
+  lock.unlock();
+  bool ok = true;
+  if (!samples.empty() || !events.empty()) {
+    try {
+      runs_.append(run_id_, samples, events, distance_m);
+    } catch (const std::exception& error) {
+      ok = false;
+      spdlog::error("recorder: writing {} samples and {} events failed: {}", samples.size(),
+                    events.size(), error.what());
+    }
+  }
+  lock.lock();
+  if (ok) {
+    batches_written_ += samples.empty() && events.empty() ? 0 : 1;
+    samples_written_ += samples.size();
+  } else {
+    // Keep the batch for the next attempt: nothing recorded is dropped on a transient error.
+    ++write_failures_;
+    samples.insert(samples.end(), samples_.begin(), samples_.end());
+    events.insert(events.end(), events_.begin(), events_.end());
+    samples_.swap(samples);
+    events_.swap(events);
+  }
+  ++generation_;
+  flushed_.notify_all();
+}
+
+std::string Recorder::metrics_text() const {
+  std::lock_guard lock(mutex_);
+  std::string out;
+  out += "# HELP mobot_recorder_batches_total Batches committed to SQLite.\n";
+  out += "# TYPE mobot_recorder_batches_total counter\n";
+  out += "mobot_recorder_batches_total " + std::to_string(batches_written_) + "\n";
+  out += "# HELP mobot_recorder_samples_total Trajectory samples committed.\n";
+  out += "# TYPE mobot_recorder_samples_total counter\n";
+  out += "mobot_recorder_samples_total " + std::to_string(samples_written_) + "\n";
+  out += "# HELP mobot_recorder_write_failures_total Failed batch writes (retried).\n";
+  out += "# TYPE mobot_recorder_write_failures_total counter\n";
+  out += "mobot_recorder_write_failures_total " + std::to_string(write_failures_) + "\n";
+  return out;
+}
+
+}  // namespace mobot::server

@@ -1,0 +1,57 @@
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "db/run_store.h"
+
+namespace mobot::server {
+
+// Writes the run's trajectory and events to SQLite off the control loop: the loop only appends to
+// a buffer; a writer thread commits the buffer every flush period in one transaction. stop()
+// commits what is left and closes the run.
+class Recorder {
+ public:
+  Recorder(db::RunStore& runs, std::int64_t run_id, int flush_period_ms);
+  ~Recorder();
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  void record_pose(double t_s, double x, double y, double theta);
+  void record_event(double t_s, std::string kind, std::string detail_json);
+  void set_distance(double distance_m);
+  // Commits everything buffered now and returns once it is on disk.
+  void flush();
+  void stop(double ended_unix_s);
+
+  std::int64_t run_id() const { return run_id_; }
+  std::string metrics_text() const;
+
+ private:
+  void run();
+  void write_batch(std::unique_lock<std::mutex>& lock);
+
+  db::RunStore& runs_;
+  const std::int64_t run_id_;
+  const int flush_period_ms_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable flushed_;
+  std::vector<db::TrajectorySample> samples_;
+  std::vector<db::EventRecord> events_;
+  double distance_m_ = 0.0;
+  bool stopping_ = false;
+  bool flush_requested_ = false;
+  std::uint64_t batches_written_ = 0;
+  std::uint64_t samples_written_ = 0;
+  std::uint64_t write_failures_ = 0;
+  std::uint64_t generation_ = 0;  // counts completed writes, for flush()
+  std::thread writer_;
+};
+
+}  // namespace mobot::server

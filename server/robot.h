@@ -1,0 +1,94 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "api/robot_port.h"
+#include "api/stream_hub.h"
+#include "core/control/command_mux.h"
+#include "core/control/velocity_smoother.h"
+#include "core/estimation/wheel_odometry.h"
+#include "core/safety/sensor_watchdog.h"
+#include "drivers/sim/simulator.h"
+#include "drivers/sim/world.h"
+#include "server/config.h"
+#include "server/recorder.h"
+
+namespace mobot::server {
+
+// The robot runtime of one control period: drivers -> odometry -> command mux -> smoother ->
+// base, publishing on the stream hub and the recorder. tick() runs on the control loop's thread;
+// the command methods are called from network threads. One mutex guards the state: a tick takes
+// well under a millisecond, so a REST call waits at most that long.
+class Robot {
+ public:
+  Robot(const Config& config, sim::World world, api::StreamHub& hub, Recorder& recorder);
+
+  // One control period: advances the simulator by period_s() of robot time.
+  void tick();
+  double period_s() const { return period_s_; }
+
+  msgs::Twist teleop(const msgs::Twist& command, int ttl_ms);  // ApiError 409 under e-stop
+  bool set_estop(bool engaged);
+  api::RobotSnapshot snapshot() const;
+  api::SimTruth truth() const;
+  // Restarts the simulation in `world` (or the current one) at `pose` (or the world's start).
+  void reset(std::optional<sim::World> world, std::optional<geometry::Pose2D> pose,
+             std::optional<std::uint64_t> seed);
+  bool pose_is_free(const geometry::Pose2D& pose) const;
+  int add_obstacle(double x_m, double y_m, double radius_m, double height_m);
+  bool remove_obstacle(int id);
+  // Zero command at once, bypassing the smoother: used on shutdown.
+  void halt();
+  std::string world_name() const;
+  double distance_m() const;
+  std::string metrics_text() const;
+
+ private:
+  void read_sensors();
+  void update_odometry(const msgs::WheelEncoders& encoders);
+  void check_faults();
+  void drive();
+  void publish();
+  void record_event(const std::string& kind, const nlohmann::json& detail);
+  std::string mode() const;
+  api::RobotSnapshot snapshot_locked() const;
+  void start_estimation(const geometry::Pose2D& pose);
+
+  const Config config_;
+  api::StreamHub& hub_;
+  Recorder& recorder_;
+  const double period_s_;
+
+  mutable std::mutex mutex_;
+  std::unique_ptr<sim::Simulator> sim_;
+  std::uint64_t seed_;
+  estimation::WheelOdometry odometry_;
+  Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
+  geometry::Pose2D pose_;  // map frame; odometry is the localization for now
+  control::CommandMux mux_;
+  control::VelocitySmoother smoother_;
+  safety::SensorWatchdog watchdog_;
+
+  bool estop_ = false;
+  bool teleop_was_active_ = false;
+  msgs::Twist last_teleop_;
+  std::vector<std::string> stale_sensors_;
+  double next_laser_s_ = 0.0;
+  double next_sonar_s_ = 0.0;
+  double next_compass_s_ = 0.0;
+  double next_status_s_ = 0.0;
+  double next_sample_s_ = 0.0;
+  double distance_before_reset_m_ = 0.0;
+  std::optional<msgs::LaserScan> new_scan_;
+  std::optional<msgs::SonarRing> new_sonar_;
+  std::optional<msgs::CompassReading> compass_;
+  std::uint64_t ticks_ = 0;
+  std::uint64_t collisions_ = 0;
+};
+
+}  // namespace mobot::server

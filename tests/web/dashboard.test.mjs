@@ -1,0 +1,476 @@
+#!/usr/bin/env node
+// Browser test of the mobot dashboard: a real mobotd (sim backend) and Debian's Chromium driven by
+// playwright-core.
+//
+//   node tests/web/dashboard.test.mjs --mobotd build/server/mobotd [--headed] [--keep]
+//
+// Starts `mobotd --backend sim --port 0 --time-scale 1 --data-dir <tmp> --token <random>`, opens
+// the dashboard, and checks: map + laser drawn, keyboard teleop moves the robot, e-stop engages
+// (and teleop is refused meanwhile), the Maps and Runs tabs list items, a wrong token shows an
+// auth error, stopping the server shows "disconnected" and a restarted server is reconnected.
+// Exit code 0 when every check passes. Screenshots of failures go to tests/web/out/.
+
+import { spawn } from 'node:child_process';
+import { randomBytes } from 'node:crypto';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { createInterface } from 'node:readline';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const HERE = dirname(fileURLToPath(import.meta.url));
+const OUT_DIR = join(HERE, 'out');
+const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const TOTAL_BUDGET_MS = 60_000;
+
+// ---------------------------------------------------------------- arguments
+
+function parseArgs(argv) {
+  const args = { mobotd: process.env.MOBOTD || '', headed: false, keep: false };
+  for (let i = 0; i < argv.length; i++) {
+    const a = argv[i];
+    if (a === '--mobotd') args.mobotd = argv[++i] ?? '';
+    else if (a.startsWith('--mobotd=')) args.mobotd = a.slice('--mobotd='.length);
+    else if (a === '--headed') args.headed = true;
+    else if (a === '--keep') args.keep = true;
+    else if (a === '-h' || a === '--help') {
+      console.log('usage: node tests/web/dashboard.test.mjs --mobotd PATH_TO_MOBOTD [--headed] [--keep]');
+      process.exit(0);
+    } else {
+      console.error(`unknown argument: ${a}`);
+      process.exit(2);
+    }
+  }
+  if (!args.mobotd) {
+    console.error('usage: node tests/web/dashboard.test.mjs --mobotd PATH_TO_MOBOTD');
+    process.exit(2);
+  }
+  args.mobotd = resolve(args.mobotd);
+  if (!existsSync(args.mobotd)) {
+    console.error(`mobotd not found at ${args.mobotd} (build it first)`);
+    process.exit(2);
+  }
+  if (!existsSync(CHROMIUM)) {
+    console.error(`Chromium not found at ${CHROMIUM} (apt-get install chromium)`);
+    process.exit(2);
+  }
+  return args;
+}
+
+// ---------------------------------------------------------------- mobotd
+
+/** Starts mobotd and resolves once it printed `mobotd listening on http://ADDR:PORT`. */
+function startServer(mobotd, { dataDir, token, port = 0 }) {
+  const argv = ['--backend', 'sim', '--port', String(port), '--time-scale', '1', '--data-dir', dataDir, '--token', token];
+  const child = spawn(mobotd, argv, { stdio: ['ignore', 'pipe', 'pipe'] });
+  const log = [];
+  const remember = (line) => {
+    log.push(line);
+    if (log.length > 200) log.shift();
+  };
+  createInterface({ input: child.stderr }).on('line', remember);
+  const exited = new Promise((res) => child.once('exit', (code, signal) => res({ code, signal })));
+  const ready = new Promise((res, rej) => {
+    const timer = setTimeout(() => rej(new Error(`mobotd did not print its listening line within 15 s\n${log.slice(-20).join('\n')}`)), 15_000);
+    createInterface({ input: child.stdout }).on('line', (line) => {
+      remember(line);
+      const match = /^mobotd listening on (http:\/\/\S+?)\/?$/.exec(line.trim());
+      if (match) {
+        clearTimeout(timer);
+        res(match[1]);
+      }
+    });
+    exited.then(({ code, signal }) => {
+      clearTimeout(timer);
+      rej(new Error(`mobotd exited early (code ${code}, signal ${signal})\n${log.slice(-20).join('\n')}`));
+    });
+  });
+  return { child, ready, exited, log, argv };
+}
+
+async function stopServer(server, timeoutMs = 8000) {
+  if (!server || server.child.exitCode !== null || server.child.signalCode !== null) return server?.exited;
+  server.child.kill('SIGTERM');
+  const timer = setTimeout(() => server.child.kill('SIGKILL'), timeoutMs);
+  const result = await server.exited;
+  clearTimeout(timer);
+  return result;
+}
+
+// ---------------------------------------------------------------- helpers
+
+/** A binary PGM (P5): free inside, an occupied border. */
+function makePgm(width, height) {
+  const header = Buffer.from(`P5\n${width} ${height}\n255\n`, 'ascii');
+  const pixels = Buffer.alloc(width * height, 254);
+  for (let y = 0; y < height; y++) {
+    for (let x = 0; x < width; x++) {
+      if (x === 0 || y === 0 || x === width - 1 || y === height - 1) pixels[y * width + x] = 0;
+    }
+  }
+  return Buffer.concat([header, pixels]);
+}
+
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+async function rest(base, token, method, path, body) {
+  const response = await fetch(base + path, {
+    method,
+    headers: { Authorization: `Bearer ${token}`, ...(body ? { 'Content-Type': 'application/json' } : {}) },
+    body: body ? JSON.stringify(body) : undefined,
+  });
+  const text = await response.text();
+  let json = null;
+  try {
+    json = JSON.parse(text);
+  } catch {
+    // not JSON
+  }
+  if (!response.ok) throw new Error(`${method} ${path} -> ${response.status} ${text.slice(0, 200)}`);
+  return json;
+}
+
+async function until(what, fn, timeoutMs = 5000, intervalMs = 100) {
+  const deadline = Date.now() + timeoutMs;
+  let last;
+  for (;;) {
+    try {
+      last = await fn();
+      if (last) return last;
+    } catch (error) {
+      last = error;
+    }
+    if (Date.now() > deadline) {
+      throw new Error(`timed out after ${timeoutMs} ms waiting for ${what}${last instanceof Error ? ` (${last.message})` : ''}`);
+    }
+    await sleep(intervalMs);
+  }
+}
+
+const hooks = (page) => page.evaluate(() => {
+  const m = window.__mobot;
+  return m
+    ? {
+        connected: m.connected,
+        connection: m.connection,
+        scansDrawn: m.scansDrawn,
+        framesDrawn: m.framesDrawn,
+        poseCount: m.poseCount,
+        lastPose: m.lastPose,
+        mapShown: m.mapShown,
+        robotVisible: m.robotVisible,
+        estop: m.estop,
+        lastError: m.lastError,
+        reconnects: m.reconnects,
+      }
+    : null;
+});
+
+// ---------------------------------------------------------------- test runner
+
+const results = [];
+let currentPage = null;
+
+async function step(name, fn) {
+  const started = Date.now();
+  try {
+    const note = await fn();
+    const ms = Date.now() - started;
+    results.push({ name, ok: true });
+    console.log(`  ✓ ${name} (${ms} ms)${note ? ` — ${note}` : ''}`);
+    return true;
+  } catch (error) {
+    const ms = Date.now() - started;
+    results.push({ name, ok: false, error });
+    console.log(`  ✗ ${name} (${ms} ms)\n      ${String(error?.stack || error).split('\n').join('\n      ')}`);
+    if (currentPage) {
+      const file = join(OUT_DIR, `fail-${results.length}-${name.replace(/[^a-z0-9]+/gi, '-').toLowerCase()}.png`);
+      try {
+        mkdirSync(OUT_DIR, { recursive: true });
+        await currentPage.screenshot({ path: file });
+        console.log(`      screenshot: ${file}`);
+      } catch (shotError) {
+        console.log(`      (no screenshot: ${shotError.message})`);
+      }
+    }
+    return false;
+  }
+}
+
+async function main() {
+  const args = parseArgs(process.argv.slice(2));
+  const token = randomBytes(18).toString('hex');
+  const dataDir = mkdtempSync(join(tmpdir(), 'mobot-web-test-'));
+  let server = null;
+  let browser = null;
+  const pageErrors = [];
+  const t0 = Date.now();
+  const budget = setTimeout(() => {
+    console.error(`\nFAIL: the browser test exceeded its ${TOTAL_BUDGET_MS / 1000} s budget`);
+    if (server) server.child.kill('SIGKILL');
+    process.exit(1);
+  }, TOTAL_BUDGET_MS + 15_000);
+
+  rmSync(OUT_DIR, { recursive: true, force: true });
+  console.log(`mobot dashboard test\n  mobotd:   ${args.mobotd}\n  chromium: ${CHROMIUM}\n  data dir: ${dataDir}`);
+  try {
+    server = startServer(args.mobotd, { dataDir, token });
+    let base = await server.ready;
+    const port = Number(new URL(base).port);
+    console.log(`  server:   ${base}`);
+
+    // The dashboard must be built and served (GET / without a token).
+    const index = await fetch(`${base}/`);
+    if (!index.ok) {
+      const text = await index.text();
+      throw new Error(`GET / -> ${index.status}: ${text.slice(0, 300)}\n(build the dashboard: cd web && npm ci && npm run build)`);
+    }
+
+    // The default launch runs on a fresh temporary profile; every context has its own storage.
+    browser = await chromium.launch({
+      executablePath: CHROMIUM,
+      headless: !args.headed,
+      args: [
+        ...(args.headed ? [] : ['--headless']),
+        '--no-sandbox',
+        '--disable-gpu',
+        '--disable-quic',
+        '--no-first-run',
+        '--disable-background-networking',
+        '--disable-component-update',
+        '--disable-sync',
+      ],
+    });
+    const context = await browser.newContext({ viewport: { width: 1440, height: 900 } });
+    const page = await context.newPage();
+    currentPage = page;
+    page.on('pageerror', (error) => pageErrors.push(String(error)));
+    page.on('console', (message) => {
+      if (message.type() === 'error' && !/WebSocket connection|Failed to load resource/.test(message.text())) {
+        pageErrors.push(`console: ${message.text()}`);
+      }
+    });
+
+    await step('dashboard loads and the stream connects', async () => {
+      await page.goto(`${base}/?token=${token}`, { waitUntil: 'domcontentloaded' });
+      await page.waitForFunction(() => window.__mobot && window.__mobot.connected, null, { timeout: 10_000 });
+      const url = new URL(page.url());
+      if (url.searchParams.has('token')) throw new Error('the token stays in the address bar');
+    });
+
+    await step('map shown and laser scans drawn', async () => {
+      await page.waitForFunction(() => window.__mobot.mapShown && window.__mobot.scansDrawn > 3, null, { timeout: 10_000 });
+      if (await page.isVisible('[data-testid=map-empty]')) throw new Error('the "waiting for the map" note is still shown');
+      const h = await hooks(page);
+      if (!h.robotVisible) throw new Error('the robot is outside the visible map view');
+      return `${h.scansDrawn} scans, ${h.poseCount} poses, ${h.framesDrawn} frames drawn`;
+    });
+
+    await step('status panel shows mode, pose, sensors and link stats', async () => {
+      await page.waitForFunction(() => {
+        const text = (id) => document.querySelector(`[data-testid=${id}]`)?.textContent?.trim() ?? '';
+        return text('status-mode') !== '–' && text('status-mode') !== '' && text('status-pose').startsWith('x ') &&
+          document.querySelectorAll('[data-testid=status-sensors] .sensor').length > 0 &&
+          document.querySelector('[data-testid=topic-pose]') !== null && text('latency-rtt').endsWith('ms');
+      }, null, { timeout: 6000 });
+      const mode = await page.textContent('[data-testid=status-mode]');
+      const rtt = await page.textContent('[data-testid=latency-rtt]');
+      return `mode ${mode}, rtt ${rtt}`;
+    });
+
+    await step("holding 'w' drives the robot forward (> 0.2 m)", async () => {
+      const before = await rest(base, token, 'GET', '/api/v1/robot');
+      const hookBefore = (await hooks(page)).lastPose;
+      await page.locator('[data-testid=map-canvas]').hover();
+      await page.keyboard.down('w');
+      await sleep(1500);
+      const driving = await page.textContent('[data-testid=teleop-cmd]');
+      await page.keyboard.up('w');
+      const after = await rest(base, token, 'GET', '/api/v1/robot');
+      const moved = Math.hypot(after.pose.x - before.pose.x, after.pose.y - before.pose.y);
+      const hookAfter = (await hooks(page)).lastPose;
+      const movedInPage = hookBefore && hookAfter ? Math.hypot(hookAfter.x - hookBefore.x, hookAfter.y - hookBefore.y) : NaN;
+      if (!(moved > 0.2)) {
+        throw new Error(`the robot moved ${moved.toFixed(3)} m (REST), ${movedInPage.toFixed(3)} m (page); teleop panel said "${driving}"`);
+      }
+      if (!/keyboard/.test(driving ?? '')) throw new Error(`teleop panel said "${driving}" while 'w' was held`);
+      // Releasing the key sends one zero command: the robot comes to rest.
+      await until('the robot to stop after the key is released', async () => {
+        const r = await rest(base, token, 'GET', '/api/v1/robot');
+        return Math.abs(r.velocity.v) < 0.05;
+      }, 3000, 150);
+      return `moved ${moved.toFixed(2)} m (page saw ${movedInPage.toFixed(2)} m)`;
+    });
+
+    await step('e-stop button engages the e-stop; teleop is refused meanwhile', async () => {
+      await page.click('[data-testid=estop]');
+      await until('GET /api/v1/robot to report estop true', async () => (await rest(base, token, 'GET', '/api/v1/robot')).estop === true, 3000);
+      await page.waitForSelector('[data-testid=estop-state][data-engaged=true]', { timeout: 3000 });
+      await page.keyboard.down('w');
+      await sleep(300);
+      await page.keyboard.up('w');
+      await page.waitForFunction(() => /estop_engaged/.test(window.__mobot.lastError ?? ''), null, { timeout: 3000 });
+      await page.waitForSelector('[data-testid=toast-error]', { timeout: 2000 });
+    });
+
+    await step('release button releases the e-stop', async () => {
+      await page.click('[data-testid=estop-release]');
+      await until('GET /api/v1/robot to report estop false', async () => (await rest(base, token, 'GET', '/api/v1/robot')).estop === false, 3000);
+      await page.waitForSelector('[data-testid=estop-state][data-engaged=false]', { timeout: 3000 });
+    });
+
+    await step('Maps tab lists at least one map with a thumbnail', async () => {
+      await page.click('[data-testid=tab-maps]');
+      await page.waitForSelector('[data-testid=map-item]', { timeout: 5000 });
+      const count = await page.locator('[data-testid=map-item]').count();
+      await page.waitForSelector('[data-testid=map-item] .thumb img', { timeout: 5000 });
+      return `${count} map(s)`;
+    });
+
+    await step('Maps tab: import a PGM, refuse to delete the active map (409), delete the import', async () => {
+      const name = `web-test-${Date.now() % 100000}`;
+      await page.setInputFiles('[data-testid=import-file]', { name: `${name}.pgm`, mimeType: 'image/x-portable-graymap', buffer: makePgm(40, 30) });
+      await page.fill('[data-testid=import-name]', name);
+      await page.fill('[data-testid=import-resolution]', '0.1');
+      await page.click('[data-testid=import-submit]');
+      const card = page.locator('[data-testid=map-item]', { hasText: name });
+      await card.waitFor({ timeout: 5000 });
+      const stored = (await rest(base, token, 'GET', '/api/v1/maps')).find((m) => m.name === name);
+      if (!stored || stored.width !== 40 || stored.height !== 30) throw new Error(`imported map not stored as 40x30: ${JSON.stringify(stored)}`);
+      page.once('dialog', (dialog) => void dialog.accept());
+      await page.locator('[data-testid=map-item].active [data-testid=map-delete]').click();
+      await page.waitForSelector('[data-testid=toast-error]:has-text("map_active")', { timeout: 3000 });
+      page.once('dialog', (dialog) => void dialog.accept());
+      await card.locator('[data-testid=map-delete]').click();
+      await card.waitFor({ state: 'detached', timeout: 5000 });
+      return `imported #${stored.id} and deleted it`;
+    });
+
+    await step('Runs tab lists at least one run and draws its trajectory', async () => {
+      await page.click('[data-testid=tab-runs]');
+      await page.waitForSelector('[data-testid=run-item]', { timeout: 5000 });
+      const count = await page.locator('[data-testid=run-item]').count();
+      await page.waitForFunction(() => /poses/.test(document.querySelector('[data-testid=run-summary]')?.textContent ?? ''), null, { timeout: 5000 });
+      const summary = (await page.textContent('[data-testid=run-summary]'))?.trim();
+      // The CSV download is fetched with the bearer header and saved through a blob link.
+      const [download] = await Promise.all([
+        page.waitForEvent('download', { timeout: 5000 }),
+        page.click('[data-testid=run-csv]'),
+      ]);
+      const csv = readFileSync(await download.path(), 'utf8');
+      if (!csv.startsWith('t,x,y,theta')) throw new Error(`the CSV starts with ${JSON.stringify(csv.slice(0, 40))}`);
+      return `${count} run(s); ${summary}; CSV ${csv.trim().split('\n').length - 1} rows`;
+    });
+
+    await step('Live tab again: still connected and drawing', async () => {
+      await page.click('[data-testid=tab-live]');
+      const before = (await hooks(page)).scansDrawn;
+      await page.waitForFunction((n) => window.__mobot.connected && window.__mobot.scansDrawn > n + 2, before, { timeout: 5000 });
+      if (!(await hooks(page)).robotVisible) throw new Error('the robot is outside the visible map view');
+      mkdirSync(OUT_DIR, { recursive: true });
+      await page.screenshot({ path: join(OUT_DIR, 'live.png') });
+    });
+
+    await step('a wrong token shows an auth error instead of hanging', async () => {
+      const badContext = await browser.newContext({ viewport: { width: 1200, height: 800 } });
+      const bad = await badContext.newPage();
+      bad.on('pageerror', (error) => pageErrors.push(`bad-token page: ${error}`));
+      try {
+        await bad.goto(`${base}/?token=wrong-${token.slice(0, 6)}`, { waitUntil: 'domcontentloaded' });
+        await bad.waitForSelector('[data-testid=auth-error]', { state: 'visible', timeout: 5000 });
+        const state = await bad.evaluate(() => window.__mobot.connection);
+        if (state !== 'auth_error') throw new Error(`connection state is ${state}`);
+        const message = (await bad.textContent('[data-testid=auth-error]'))?.trim();
+        return message;
+      } finally {
+        await badContext.close();
+      }
+    });
+
+    await step('a viewer token: teleop and e-stop refusals are shown', async () => {
+      let viewer;
+      try {
+        viewer = await rest(base, token, 'POST', '/api/v1/tokens', { role: 'viewer', label: 'web test' });
+      } catch (error) {
+        if (/-> 404/.test(String(error))) return 'skipped: no /api/v1/tokens';
+        throw error;
+      }
+      const viewerContext = await browser.newContext({ viewport: { width: 1200, height: 800 } });
+      const vpage = await viewerContext.newPage();
+      vpage.on('pageerror', (error) => pageErrors.push(`viewer page: ${error}`));
+      try {
+        await vpage.goto(`${base}/?token=${viewer.token}`, { waitUntil: 'domcontentloaded' });
+        await vpage.waitForFunction(() => window.__mobot && window.__mobot.connected && window.__mobot.scansDrawn > 0, null, { timeout: 8000 });
+        await vpage.keyboard.down('w');
+        await sleep(250);
+        await vpage.keyboard.up('w');
+        await vpage.waitForFunction(() => /forbidden/.test(window.__mobot.lastError ?? ''), null, { timeout: 3000 });
+        await vpage.click('[data-testid=estop]');
+        await vpage.waitForSelector('[data-testid=toast-error]:has-text("E-stop request failed")', { timeout: 3000 });
+        const robot = await rest(base, token, 'GET', '/api/v1/robot');
+        if (robot.estop) throw new Error('a viewer engaged the e-stop');
+        return (await vpage.evaluate(() => window.__mobot.lastError)) ?? '';
+      } finally {
+        await viewerContext.close();
+      }
+    });
+
+    await step('stopping mobotd (SIGTERM) shows "disconnected"', async () => {
+      const exit = await stopServer(server);
+      if (exit.code !== 0) throw new Error(`mobotd exited with code ${exit.code} signal ${exit.signal}, expected 0`);
+      await page.waitForFunction(() => !window.__mobot.connected, null, { timeout: 5000 });
+      await page.waitForFunction(
+        () => /disconnected|connecting/.test(document.querySelector('[data-testid=connection]')?.textContent ?? ''),
+        null,
+        { timeout: 5000 },
+      );
+      await page.waitForSelector('[data-testid=connection][data-state=disconnected], [data-testid=connection][data-state=connecting]', { timeout: 2000 });
+    });
+
+    await step('a restarted mobotd is reconnected and streams again', async () => {
+      server = startServer(args.mobotd, { dataDir, token, port });
+      base = await server.ready;
+      const before = (await hooks(page)).scansDrawn;
+      await page.waitForFunction((n) => window.__mobot.connected && window.__mobot.scansDrawn > n + 2, before, { timeout: 10_000 });
+      const h = await hooks(page);
+      return `reconnected after ${h.reconnects} attempt(s)`;
+    });
+
+    await step('no uncaught errors in the page', async () => {
+      if (pageErrors.length) throw new Error(pageErrors.slice(0, 10).join('\n'));
+    });
+  } catch (error) {
+    results.push({ name: 'setup', ok: false, error });
+    console.log(`  ✗ setup\n      ${String(error?.stack || error).split('\n').join('\n      ')}`);
+    if (server?.log?.length) console.log(`  mobotd output (last lines):\n    ${server.log.slice(-15).join('\n    ')}`);
+  } finally {
+    clearTimeout(budget);
+    if (browser) await browser.close().catch(() => {});
+    if (server) {
+      const exit = await stopServer(server);
+      if (exit && exit.code !== 0 && exit.signal !== 'SIGTERM') console.log(`  note: mobotd exited with code ${exit.code}`);
+    }
+    if (!args.keep) {
+      rmSync(dataDir, { recursive: true, force: true });
+    }
+  }
+
+  const passed = results.filter((r) => r.ok).length;
+  const failed = results.length - passed;
+  const seconds = ((Date.now() - t0) / 1000).toFixed(1);
+  console.log(`\n${passed} passed, ${failed} failed`);
+  console.log(`dashboard browser test ${failed === 0 ? 'PASSED' : 'FAILED'} in ${seconds} s`);
+  if (Date.now() - t0 > TOTAL_BUDGET_MS) {
+    console.log(`note: took longer than the ${TOTAL_BUDGET_MS / 1000} s budget`);
+  }
+  return failed === 0 ? 0 : 1;
+}
+
+main().then(
+  (code) => process.exit(code),
+  (error) => {
+    console.error(error);
+    process.exit(1);
+  },
+);

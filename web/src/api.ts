@@ -1,0 +1,185 @@
+// REST client of mobotd (/api/v1). Every call carries the bearer token; errors come back as
+// ApiError with the server's {"error":{"code","message"}}.
+
+export interface Pose {
+  x: number;
+  y: number;
+  theta: number;
+}
+
+export interface SensorHealth {
+  ok: boolean;
+  rate_hz: number;
+}
+
+export interface RobotStatus {
+  t: number;
+  mode: string;
+  pose: Pose;
+  velocity: { v: number; w: number };
+  localization: { method: string; cov: number[] };
+  kinematics: string;
+  estop: boolean;
+  sensors: Record<string, SensorHealth>;
+}
+
+export interface MapInfo {
+  id: number;
+  name: string;
+  width: number;
+  height: number;
+  resolution: number;
+  origin: Pose;
+  created: number;
+  active: boolean;
+}
+
+export interface RunInfo {
+  id: number;
+  name: string;
+  started: number;
+  ended?: number;
+  distance_m: number;
+  goals: { succeeded: number; failed: number; canceled: number };
+}
+
+export interface TrajectoryPoint {
+  t: number;
+  x: number;
+  y: number;
+  theta: number;
+}
+
+export interface RunEvent {
+  t: number;
+  kind: string;
+  detail: unknown;
+}
+
+export interface Health {
+  status: string;
+  version: string;
+  backend: string;
+  uptime_s: number;
+}
+
+export interface MapImport {
+  name: string;
+  resolution: number;
+  origin: Pose;
+  image_base64: string;
+  negate?: boolean;
+  occupied_thresh?: number;
+  free_thresh?: number;
+}
+
+export class ApiError extends Error {
+  constructor(
+    readonly status: number,
+    readonly code: string,
+    message: string,
+  ) {
+    super(message);
+  }
+
+  /** "message (code)" for the UI. */
+  describe(): string {
+    return this.code && this.code !== 'network_error' ? `${this.message} (${this.code})` : this.message;
+  }
+}
+
+export function errorText(error: unknown): string {
+  if (error instanceof ApiError) return error.describe();
+  if (error instanceof Error) return error.message;
+  return String(error);
+}
+
+/** Turns a non-2xx response into an ApiError, reading the {"error":{...}} body when there is one. */
+export async function errorFromResponse(response: Response): Promise<ApiError> {
+  let code = `http_${response.status}`;
+  let message = `${response.status} ${response.statusText || 'error'}`.trim();
+  try {
+    const text = await response.text();
+    const body = JSON.parse(text) as { error?: { code?: string; message?: string } };
+    if (body.error) {
+      code = body.error.code ?? code;
+      message = body.error.message ?? message;
+    }
+  } catch {
+    // not JSON: keep the status line
+  }
+  return new ApiError(response.status, code, message);
+}
+
+export class ApiClient {
+  constructor(
+    private token: string,
+    private readonly base = '',
+  ) {}
+
+  setToken(token: string): void {
+    this.token = token;
+  }
+
+  private async request(method: string, path: string, body?: unknown): Promise<Response> {
+    const headers: Record<string, string> = { Authorization: `Bearer ${this.token}` };
+    let payload: string | undefined;
+    if (body !== undefined) {
+      headers['Content-Type'] = 'application/json';
+      payload = JSON.stringify(body);
+    }
+    let response: Response;
+    try {
+      response = await fetch(`${this.base}${path}`, { method, headers, body: payload, cache: 'no-store' });
+    } catch (error) {
+      throw new ApiError(0, 'network_error', `server unreachable (${errorText(error)})`);
+    }
+    if (!response.ok) throw await errorFromResponse(response);
+    return response;
+  }
+
+  private async json<T>(method: string, path: string, body?: unknown): Promise<T> {
+    const response = await this.request(method, path, body);
+    if (response.status === 204) return undefined as T;
+    return (await response.json()) as T;
+  }
+
+  /** GET returning the raw body (for downloads that need the bearer header). */
+  async blob(path: string): Promise<Blob> {
+    return (await this.request('GET', path)).blob();
+  }
+
+  health(): Promise<Health> {
+    return this.json('GET', '/api/v1/health');
+  }
+  robot(): Promise<RobotStatus> {
+    return this.json('GET', '/api/v1/robot');
+  }
+  estop(engaged: boolean): Promise<{ estop: boolean }> {
+    return this.json('POST', '/api/v1/estop', { engaged });
+  }
+  teleop(v: number, w: number, ttlMs = 300): Promise<{ v: number; w: number }> {
+    return this.json('POST', '/api/v1/teleop', { v, w, ttl_ms: ttlMs });
+  }
+  maps(): Promise<MapInfo[]> {
+    return this.json('GET', '/api/v1/maps');
+  }
+  importMap(body: MapImport): Promise<{ id: number }> {
+    return this.json('POST', '/api/v1/maps', body);
+  }
+  activateMap(id: number): Promise<MapInfo> {
+    return this.json('POST', `/api/v1/maps/${id}/activate`);
+  }
+  deleteMap(id: number): Promise<void> {
+    return this.json('DELETE', `/api/v1/maps/${id}`);
+  }
+  runs(): Promise<RunInfo[]> {
+    return this.json('GET', '/api/v1/runs');
+  }
+  trajectory(id: number): Promise<TrajectoryPoint[]> {
+    return this.json('GET', `/api/v1/runs/${id}/trajectory?format=json`);
+  }
+  runEvents(id: number): Promise<RunEvent[]> {
+    return this.json('GET', `/api/v1/runs/${id}/events`);
+  }
+}

@@ -1,0 +1,250 @@
+// Decoders for the stream's binary frames (README "Binary frames") and the equivalent JSON bodies.
+// Pure functions: no DOM, no sockets, so they are unit-tested in Node.
+
+export const BINARY_MAGIC = 'MBT1';
+export const MIN_HEADER_BYTES = 32;
+
+export const BinaryTopic = {
+  scan: 1,
+  map: 2,
+  cloud: 3,
+  costmap: 4,
+  camera: 5,
+} as const;
+
+const BINARY_TOPIC_NAMES: Record<number, string> = {
+  1: 'scan',
+  2: 'map',
+  3: 'cloud',
+  4: 'costmap',
+  5: 'camera',
+};
+
+export interface FrameHeader {
+  topicId: number;
+  topic: string;
+  headerBytes: number;
+  seq: number;
+  t: number;
+  wallUs: number;
+}
+
+export interface Pose2D {
+  x: number;
+  y: number;
+  theta: number;
+}
+
+export interface LaserScan {
+  angleMin: number;
+  angleIncrement: number;
+  rangeMin: number;
+  rangeMax: number;
+  sensorPose: Pose2D;
+  ranges: Float32Array;
+}
+
+/** Occupancy grid; cells are 0..100 occupancy percent or UNKNOWN_CELL, row 0 at the bottom. */
+export interface MapGrid {
+  id: number;
+  width: number;
+  height: number;
+  resolution: number;
+  origin: Pose2D;
+  cells: Uint8Array;
+}
+
+export const UNKNOWN_CELL = 255;
+
+export class FrameError extends Error {}
+
+export function parseHeader(buffer: ArrayBuffer): FrameHeader {
+  if (buffer.byteLength < MIN_HEADER_BYTES) {
+    throw new FrameError(`binary frame too short (${buffer.byteLength} bytes)`);
+  }
+  const view = new DataView(buffer);
+  const magic = String.fromCharCode(
+    view.getUint8(0),
+    view.getUint8(1),
+    view.getUint8(2),
+    view.getUint8(3),
+  );
+  if (magic !== BINARY_MAGIC) throw new FrameError(`bad magic '${magic}'`);
+  const topicId = view.getUint16(4, true);
+  const headerBytes = view.getUint16(6, true);
+  if (headerBytes < MIN_HEADER_BYTES || headerBytes > buffer.byteLength) {
+    throw new FrameError(`bad header_bytes ${headerBytes}`);
+  }
+  return {
+    topicId,
+    topic: BINARY_TOPIC_NAMES[topicId] ?? `binary_${topicId}`,
+    headerBytes,
+    seq: Number(view.getBigUint64(8, true)),
+    t: view.getFloat64(16, true),
+    wallUs: Number(view.getBigInt64(24, true)),
+  };
+}
+
+/** A Float32Array over `count` floats at `offset`, without copying when the offset is aligned. */
+function float32s(buffer: ArrayBuffer, offset: number, count: number): Float32Array {
+  if (offset % 4 === 0) return new Float32Array(buffer, offset, count);
+  return new Float32Array(buffer.slice(offset, offset + count * 4));
+}
+
+export function decodeScanBody(buffer: ArrayBuffer, bodyOffset: number): LaserScan {
+  if (buffer.byteLength < bodyOffset + 32) throw new FrameError('scan body too short');
+  const view = new DataView(buffer, bodyOffset);
+  const count = view.getUint32(28, true);
+  if (buffer.byteLength < bodyOffset + 32 + count * 4) {
+    throw new FrameError(`scan body holds fewer than ${count} ranges`);
+  }
+  return {
+    angleMin: view.getFloat32(0, true),
+    angleIncrement: view.getFloat32(4, true),
+    rangeMin: view.getFloat32(8, true),
+    rangeMax: view.getFloat32(12, true),
+    sensorPose: {
+      x: view.getFloat32(16, true),
+      y: view.getFloat32(20, true),
+      theta: view.getFloat32(24, true),
+    },
+    ranges: float32s(buffer, bodyOffset + 32, count),
+  };
+}
+
+export function decodeMapBody(buffer: ArrayBuffer, bodyOffset: number): MapGrid {
+  if (buffer.byteLength < bodyOffset + 32) throw new FrameError('map body too short');
+  const view = new DataView(buffer, bodyOffset);
+  const width = view.getUint32(0, true);
+  const height = view.getUint32(4, true);
+  const cellCount = width * height;
+  if (buffer.byteLength < bodyOffset + 32 + cellCount) {
+    throw new FrameError(`map body holds fewer than ${width}x${height} cells`);
+  }
+  return {
+    width,
+    height,
+    resolution: view.getFloat32(8, true),
+    origin: {
+      x: view.getFloat32(12, true),
+      y: view.getFloat32(16, true),
+      theta: view.getFloat32(20, true),
+    },
+    id: view.getUint32(24, true),
+    cells: new Uint8Array(buffer, bodyOffset + 32, cellCount),
+  };
+}
+
+export type BinaryFrame =
+  | { header: FrameHeader; kind: 'scan'; scan: LaserScan }
+  | { header: FrameHeader; kind: 'map'; map: MapGrid }
+  | { header: FrameHeader; kind: 'other' };
+
+export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
+  const header = parseHeader(buffer);
+  switch (header.topicId) {
+    case BinaryTopic.scan:
+      return { header, kind: 'scan', scan: decodeScanBody(buffer, header.headerBytes) };
+    case BinaryTopic.map:
+      return { header, kind: 'map', map: decodeMapBody(buffer, header.headerBytes) };
+    default:
+      return { header, kind: 'other' };
+  }
+}
+
+// ---- JSON bodies (the same data with "encoding":"json") ----
+
+interface JsonPose {
+  x: number;
+  y: number;
+  theta: number;
+}
+
+export interface JsonScan {
+  angle_min: number;
+  angle_increment: number;
+  range_min: number;
+  range_max: number;
+  ranges: (number | null)[];
+  sensor_pose: JsonPose;
+}
+
+export interface JsonMap {
+  id: number;
+  width: number;
+  height: number;
+  resolution: number;
+  origin: JsonPose;
+  data: number[];
+}
+
+export function scanFromJson(data: JsonScan): LaserScan {
+  // JSON cannot carry NaN/Inf: nlohmann writes null, which becomes "no return".
+  const ranges = Float32Array.from(data.ranges, (r) => (typeof r === 'number' ? r : NaN));
+  return {
+    angleMin: data.angle_min,
+    angleIncrement: data.angle_increment,
+    rangeMin: data.range_min,
+    rangeMax: data.range_max,
+    sensorPose: { x: data.sensor_pose.x, y: data.sensor_pose.y, theta: data.sensor_pose.theta },
+    ranges,
+  };
+}
+
+export function mapFromJson(data: JsonMap): MapGrid {
+  const cells = new Uint8Array(data.width * data.height);
+  for (let i = 0; i < cells.length; i++) {
+    const v = data.data[i];
+    cells[i] = v === undefined || v < 0 || v > 100 ? UNKNOWN_CELL : v;
+  }
+  return {
+    id: data.id,
+    width: data.width,
+    height: data.height,
+    resolution: data.resolution,
+    origin: { x: data.origin.x, y: data.origin.y, theta: data.origin.theta },
+    cells,
+  };
+}
+
+// ---- Derived geometry ----
+
+/** Whether a range is a return: inside [range_min, range_max] (NaN and Inf are not). */
+export function isReturn(range: number, rangeMin: number, rangeMax: number): boolean {
+  return range >= rangeMin && range <= rangeMax;
+}
+
+/**
+ * Map-frame end points of the scan's returns, packed as [x0, y0, x1, y1, ...] into `out`
+ * (grown when too small). Returns the number of points written.
+ */
+export function scanEndpoints(scan: LaserScan, out: Float32Array): { points: Float32Array; count: number } {
+  const n = scan.ranges.length;
+  const points = out.length >= 2 * n ? out : new Float32Array(2 * n);
+  let count = 0;
+  const { x, y, theta } = scan.sensorPose;
+  for (let i = 0; i < n; i++) {
+    const r = scan.ranges[i]!;
+    if (!isReturn(r, scan.rangeMin, scan.rangeMax)) continue;
+    const a = theta + scan.angleMin + i * scan.angleIncrement;
+    points[2 * count] = x + r * Math.cos(a);
+    points[2 * count + 1] = y + r * Math.sin(a);
+    count++;
+  }
+  return { points, count };
+}
+
+/** Map-frame corners (x, y pairs) of the grid, honouring a rotated origin. */
+export function mapCorners(map: MapGrid): [number, number][] {
+  const w = map.width * map.resolution;
+  const h = map.height * map.resolution;
+  const c = Math.cos(map.origin.theta);
+  const s = Math.sin(map.origin.theta);
+  const local: [number, number][] = [
+    [0, 0],
+    [w, 0],
+    [w, h],
+    [0, h],
+  ];
+  return local.map(([lx, ly]) => [map.origin.x + c * lx - s * ly, map.origin.y + s * lx + c * ly]);
+}

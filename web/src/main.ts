@@ -1,0 +1,301 @@
+// Dashboard entry: token, REST client, stream, pages, e-stop and the test hooks (window.__mobot).
+
+import './style.css';
+import { ApiClient, ApiError, errorText } from './api';
+import type { RobotStatus } from './api';
+import { basePath, forgetToken, initialToken, saveToken, streamUrl } from './auth';
+import type { Pose2D } from './frames';
+import type { SonarReading } from './mapview';
+import { LivePage } from './pages/live';
+import type { PoseData } from './pages/live';
+import { MapsPage } from './pages/maps';
+import { RunsPage } from './pages/runs';
+import { StreamClient } from './stream';
+import type { ConnectionState } from './stream';
+import { TTL_MS } from './teleop';
+import { byId, toast } from './ui';
+
+declare global {
+  interface Window {
+    __mobot: MobotHooks;
+  }
+}
+
+/** Counters for the browser test; read-only views of the app state. */
+export interface MobotHooks {
+  readonly scansDrawn: number;
+  readonly framesDrawn: number;
+  readonly poseCount: number;
+  readonly lastPose: Pose2D | null;
+  readonly connected: boolean;
+  readonly connection: ConnectionState;
+  readonly mapShown: boolean;
+  readonly robotVisible: boolean;
+  readonly estop: boolean | null;
+  readonly page: string;
+  readonly lastError: string | null;
+  readonly reconnects: number;
+}
+
+let token = initialToken();
+const api = new ApiClient(token, basePath());
+let estopEngaged: boolean | null = null;
+let currentPage = 'live';
+let lastError: string | null = null;
+let connectionState: ConnectionState = 'disconnected';
+
+const stream = new StreamClient({
+  url: () => streamUrl(token),
+  authProbe: async () => {
+    try {
+      await api.robot();
+      return 'ok';
+    } catch (error) {
+      if (error instanceof ApiError && error.status === 401) return 'unauthorized';
+      return 'unreachable';
+    }
+  },
+  handlers: {
+    state: (state, detail) => showConnection(state, detail),
+    hello: (hello) => {
+      const truth = (hello.topics ?? []).some((t) => t.name === 'truth');
+      live.setTruthAvailable(truth);
+      document.body.classList.toggle('sim', truth);
+      live.mapView.clearTrail(); // the server may have restarted with the robot elsewhere
+    },
+    json: (topic, data) => {
+      switch (topic) {
+        case 'pose':
+          live.onPose(data as PoseData);
+          break;
+        case 'status':
+          live.onStatus(data as RobotStatus);
+          showEstop((data as RobotStatus).estop);
+          break;
+        case 'sonar':
+          live.onSonar(data as { readings?: SonarReading[] });
+          break;
+        case 'truth':
+          live.onTruth(data as { pose: Pose2D; collisions: number });
+          break;
+        case 'events':
+          live.onEvent(data as { t: number; kind: string; detail: unknown });
+          break;
+        default:
+          break;
+      }
+    },
+    scan: (scan) => live.onScan(scan),
+    map: (map) => {
+      live.onMap(map);
+      runs.setMap(map);
+    },
+    serverError: (code, message) => {
+      lastError = `${code}: ${message}`;
+      toast(`${message} (${code})`, 'error');
+    },
+    teleopAck: (v, w) => live.onTeleopAck(v, w),
+  },
+});
+
+const live = new LivePage(stream, (command) => {
+  const sent = stream.send({ op: 'teleop', v: command.v, w: command.w, ttl_ms: TTL_MS });
+  if (!sent && (command.v !== 0 || command.w !== 0)) toast('Not connected: teleop is not sent', 'error');
+  return sent;
+});
+const maps = new MapsPage(byId('page-maps'), api);
+const runs = new RunsPage(byId('page-runs'), api);
+
+window.__mobot = {
+  get scansDrawn() {
+    return live.mapView.scansDrawn;
+  },
+  get framesDrawn() {
+    return live.mapView.framesDrawn;
+  },
+  get poseCount() {
+    return live.poseCount;
+  },
+  get lastPose() {
+    const p = live.lastPose;
+    return p ? { x: p.x, y: p.y, theta: p.theta } : null;
+  },
+  get connected() {
+    return stream.connected;
+  },
+  get connection() {
+    return connectionState;
+  },
+  get mapShown() {
+    return live.mapView.mapShown;
+  },
+  get robotVisible() {
+    return live.mapView.robotVisible();
+  },
+  get estop() {
+    return estopEngaged;
+  },
+  get page() {
+    return currentPage;
+  },
+  get lastError() {
+    return lastError;
+  },
+  get reconnects() {
+    return stream.reconnects;
+  },
+};
+
+// ---- connection ----
+
+function showConnection(state: ConnectionState, detail: string): void {
+  connectionState = state;
+  const el = byId('connection');
+  el.dataset.state = state;
+  const labels: Record<ConnectionState, string> = {
+    connecting: 'connecting…',
+    connected: 'connected',
+    disconnected: 'disconnected',
+    auth_error: 'auth error',
+  };
+  byId('connection-label').textContent = labels[state];
+  byId('connection-detail').textContent = state === 'disconnected' && detail ? detail : '';
+  el.title = detail;
+  document.body.classList.toggle('offline', state !== 'connected');
+  if (state === 'auth_error') showLogin('The server refused the token (401 unauthorized). Enter a valid token.');
+  if (state === 'connected') {
+    void loadServerInfo();
+    if (currentPage !== 'live') void refreshPage(currentPage);
+  }
+}
+
+async function loadServerInfo(): Promise<void> {
+  try {
+    const health = await api.health();
+    byId('server-info').textContent = `${health.backend} · v${health.version}`;
+  } catch {
+    // informative only
+  }
+  try {
+    const status = await api.robot();
+    live.onStatus(status);
+    showEstop(status.estop);
+  } catch (error) {
+    if (error instanceof ApiError && error.status === 401) showLogin(`The server refused the token: ${error.describe()}`);
+  }
+}
+
+// ---- login ----
+
+function showLogin(message: string | null): void {
+  const login = byId('login');
+  login.hidden = false;
+  const error = byId('auth-error');
+  error.hidden = !message;
+  error.textContent = message ?? '';
+  const input = byId<HTMLInputElement>('login-token');
+  input.value = '';
+  input.focus();
+}
+
+byId('login-form').addEventListener('submit', (e) => {
+  e.preventDefault();
+  const value = byId<HTMLInputElement>('login-token').value.trim();
+  if (!value) return;
+  token = value;
+  saveToken(token);
+  api.setToken(token);
+  byId('login').hidden = true;
+  void start();
+});
+
+byId('signout').addEventListener('click', () => {
+  forgetToken();
+  token = '';
+  api.setToken('');
+  stream.stop();
+  showLogin(null);
+});
+
+// ---- e-stop ----
+
+function showEstop(engaged: boolean): void {
+  estopEngaged = engaged;
+  const state = byId('estop-state');
+  state.dataset.engaged = String(engaged);
+  state.textContent = engaged ? 'E-STOP ENGAGED' : 'e-stop released';
+  byId('estop-overlay').hidden = !engaged;
+  document.body.classList.toggle('estopped', engaged);
+}
+
+async function setEstop(engaged: boolean): Promise<void> {
+  try {
+    const reply = await api.estop(engaged);
+    showEstop(reply.estop);
+    live.setEstop(reply.estop);
+    // The mode follows on the next status frame (1 Hz); ask now so the panel does not lag.
+    window.setTimeout(() => void api.robot().then((status) => live.onStatus(status), () => {}), 150);
+    toast(reply.estop ? 'E-stop engaged' : 'E-stop released', reply.estop ? 'error' : 'ok');
+  } catch (error) {
+    lastError = errorText(error);
+    toast(`E-stop request failed: ${errorText(error)}`, 'error');
+  }
+}
+
+byId('estop').addEventListener('click', () => void setEstop(true));
+byId('estop-release').addEventListener('click', () => void setEstop(false));
+
+// ---- tabs ----
+
+async function refreshPage(page: string): Promise<void> {
+  if (page === 'maps') await maps.refresh();
+  if (page === 'runs') await runs.refresh();
+}
+
+function showPage(page: string): void {
+  currentPage = page;
+  for (const tab of document.querySelectorAll<HTMLElement>('.tab')) {
+    const active = tab.dataset.page === page;
+    tab.classList.toggle('active', active);
+    tab.setAttribute('aria-selected', String(active));
+  }
+  for (const section of document.querySelectorAll<HTMLElement>('.page')) {
+    section.classList.toggle('active', section.id === `page-${page}`);
+  }
+  if (page !== 'live') live.teleop.releaseAll();
+  live.teleop.enabled = page === 'live';
+  if (window.location.hash !== `#${page}`) window.history.replaceState(null, '', `#${page}`);
+  void refreshPage(page);
+}
+
+for (const tab of document.querySelectorAll<HTMLElement>('.tab')) {
+  tab.addEventListener('click', () => showPage(tab.dataset.page ?? 'live'));
+}
+
+// ---- start ----
+
+async function start(): Promise<void> {
+  if (!token) {
+    showLogin(null);
+    return;
+  }
+  // Ask REST first so a bad token is reported at once instead of as a failing socket.
+  try {
+    await api.robot();
+  } catch (error) {
+    if (error instanceof ApiError && error.status === 401) {
+      showConnection('auth_error', error.describe());
+      showLogin(`The server refused the token: ${error.describe()}`);
+      return;
+    }
+    // Unreachable or another error: the stream keeps retrying with backoff.
+  }
+  stream.restart();
+}
+
+const initial = window.location.hash.replace('#', '');
+if (initial === 'maps' || initial === 'runs') showPage(initial);
+window.addEventListener('unhandledrejection', (e) => {
+  lastError = errorText(e.reason);
+});
+void start();

@@ -1,0 +1,226 @@
+// The Live page: map canvas with robot, scan, sonar and truth; status, link statistics, events
+// and teleop panels.
+
+import type { RobotStatus } from '../api';
+import type { LaserScan, MapGrid, Pose2D } from '../frames';
+import { MapView } from '../mapview';
+import type { SonarReading } from '../mapview';
+import type { StreamClient } from '../stream';
+import { mountJoystick, TeleopController } from '../teleop';
+import type { Command, TeleopSource } from '../teleop';
+import { byId, clockTime, deg, detailText, fmt, h } from '../ui';
+
+export interface PoseData {
+  x: number;
+  y: number;
+  theta: number;
+  v: number;
+  w: number;
+  cov?: number[];
+}
+
+export interface RobotEvent {
+  t: number;
+  kind: string;
+  detail: unknown;
+  received: Date;
+}
+
+const MAX_EVENTS = 200;
+
+export class LivePage {
+  readonly mapView: MapView;
+  readonly teleop: TeleopController;
+  poseCount = 0;
+  lastPose: PoseData | null = null;
+  status: RobotStatus | null = null;
+  truth: { pose: Pose2D; collisions: number } | null = null;
+  private events: RobotEvent[] = [];
+  private eventsDirty = false;
+  private poseDirty = false;
+
+  constructor(
+    private readonly stream: StreamClient,
+    sendTeleop: (command: Command) => boolean,
+  ) {
+    this.mapView = new MapView(byId<HTMLCanvasElement>('map-canvas'));
+    byId('view-fit').addEventListener('click', () => this.mapView.fit());
+    byId('view-robot').addEventListener('click', () => this.mapView.centerOnRobot());
+    byId('view-zoom-in').addEventListener('click', () => this.mapView.zoom(1.4));
+    byId('view-zoom-out').addEventListener('click', () => this.mapView.zoom(1 / 1.4));
+    byId('trail-clear').addEventListener('click', () => this.mapView.clearTrail());
+    for (const layer of ['scan', 'sonar', 'trail', 'truth'] as const) {
+      const box = byId<HTMLInputElement>(`layer-${layer}`);
+      box.addEventListener('change', () => {
+        this.mapView.layers[layer] = box.checked;
+        this.mapView.invalidate();
+      });
+    }
+
+    this.teleop = new TeleopController({
+      send: sendTeleop,
+      onChange: (command, source) => this.showTeleop(command, source),
+    });
+    mountJoystick(byId('joystick'), byId('joystick-knob'), this.teleop);
+    const speed = byId<HTMLInputElement>('speed');
+    const showSpeed = () => {
+      this.teleop.speed = Number(speed.value) / 100;
+      byId('speed-value').textContent = `${speed.value} %`;
+      const { v, w } = this.teleop.limits;
+      byId('teleop-limits').textContent = `max ${fmt(v)} m/s · ${fmt(w)} rad/s`;
+    };
+    speed.addEventListener('input', showSpeed);
+    showSpeed();
+
+    // Text panels refresh at 10 Hz: the pose arrives at 50 Hz, the DOM need not.
+    window.setInterval(() => this.refreshText(), 100);
+    window.setInterval(() => this.refreshLink(), 1000);
+  }
+
+  // ---- stream data ----
+
+  onPose(data: PoseData): void {
+    this.poseCount++;
+    this.lastPose = data;
+    this.poseDirty = true;
+    this.mapView.setPose(data);
+  }
+
+  onScan(scan: LaserScan): void {
+    this.mapView.setScan(scan);
+  }
+
+  onMap(map: MapGrid): void {
+    this.mapView.setMap(map);
+    byId('map-empty').hidden = true;
+  }
+
+  onSonar(data: { readings?: SonarReading[] }): void {
+    if (Array.isArray(data.readings)) this.mapView.setSonar(data.readings);
+  }
+
+  onTruth(data: { pose: Pose2D; collisions: number }): void {
+    this.truth = data;
+    this.mapView.setTruth(data.pose);
+  }
+
+  onStatus(status: RobotStatus): void {
+    this.status = status;
+    this.poseDirty = true;
+    this.refreshStatus();
+  }
+
+  onEvent(data: { t: number; kind: string; detail: unknown }): void {
+    this.events.unshift({ ...data, received: new Date() });
+    if (this.events.length > MAX_EVENTS) this.events.length = MAX_EVENTS;
+    this.eventsDirty = true;
+  }
+
+  /** The e-stop state from a POST /estop reply, before the next status frame. */
+  setEstop(engaged: boolean): void {
+    if (this.status) {
+      this.status = { ...this.status, estop: engaged };
+      this.refreshStatus();
+    }
+  }
+
+  onTeleopAck(v: number, w: number): void {
+    byId('teleop-ack').textContent = `ack ${fmt(v)} m/s · ${fmt(w)} rad/s`;
+  }
+
+  setTruthAvailable(available: boolean): void {
+    byId('layer-truth-label').hidden = !available;
+    if (!available) this.mapView.setTruth(null);
+  }
+
+  // ---- panels ----
+
+  private showTeleop(command: Command | null, source: TeleopSource | null): void {
+    const el = byId('teleop-cmd');
+    el.textContent = command ? `${source} ${fmt(command.v)} m/s · ${fmt(command.w)} rad/s` : 'idle';
+    el.classList.toggle('driving', !!command);
+  }
+
+  private refreshText(): void {
+    if (this.poseDirty) {
+      this.poseDirty = false;
+      const p = this.lastPose ?? this.status?.pose;
+      if (p) byId('st-pose').textContent = `x ${fmt(p.x)}  y ${fmt(p.y)}  θ ${deg(p.theta)}`;
+      const v = this.lastPose ? { v: this.lastPose.v, w: this.lastPose.w } : this.status?.velocity;
+      if (v) byId('st-vel').textContent = `v ${fmt(v.v)} m/s  w ${fmt(v.w)} rad/s`;
+      if (this.truth) {
+        const t = this.truth.pose;
+        byId('st-truth').textContent = `x ${fmt(t.x)}  y ${fmt(t.y)}  θ ${deg(t.theta)}`;
+        byId('st-collisions').textContent = String(this.truth.collisions);
+      }
+    }
+    if (this.eventsDirty) {
+      this.eventsDirty = false;
+      this.renderEvents();
+    }
+  }
+
+  private refreshStatus(): void {
+    const s = this.status;
+    if (!s) return;
+    const mode = byId('st-mode');
+    mode.textContent = s.mode;
+    mode.dataset.mode = s.mode;
+    byId('st-loc').textContent = s.localization?.method ?? '–';
+    const estop = byId('st-estop');
+    estop.textContent = s.estop ? 'ENGAGED' : 'released';
+    estop.className = s.estop ? 'bad' : 'good';
+    const sensors = byId('st-sensors');
+    sensors.replaceChildren(
+      ...Object.entries(s.sensors ?? {})
+        .sort(([a], [b]) => a.localeCompare(b))
+        .map(([name, health]) =>
+          h(
+            'span',
+            { class: `sensor ${health.ok ? 'ok' : 'fault'}`, title: `${name}: ${health.ok ? 'ok' : 'FAULT'}, ${fmt(health.rate_hz, 1)} Hz` },
+            h('span', { class: 'dot' }),
+            name,
+            h('span', { class: 'rate', text: `${fmt(health.rate_hz, 0)} Hz` }),
+          ),
+        ),
+    );
+  }
+
+  private renderEvents(): void {
+    const list = byId('events');
+    list.replaceChildren(
+      ...this.events.slice(0, 60).map((e) =>
+        h(
+          'li',
+          { class: `event kind-${e.kind.replace(/[^a-z0-9_-]/gi, '')}`, testid: 'event-item' },
+          h('span', { class: 'time mono', title: `robot clock ${fmt(e.t, 3)} s`, text: clockTime(e.received) }),
+          h('span', { class: 'kind', text: e.kind }),
+          h('span', { class: 'detail', text: detailText(e.detail) }),
+        ),
+      ),
+    );
+    byId('events-count').textContent = this.events.length ? `${this.events.length}` : '';
+  }
+
+  private refreshLink(): void {
+    const stats = this.stream.stats;
+    byId('lnk-rtt').textContent = this.stream.rttMs === null ? '–' : `${fmt(this.stream.rttMs, 1)} ms`;
+    const pose = stats.get('pose') ?? stats.get('scan');
+    byId('lnk-wall').textContent =
+      pose?.latencyMs === null || pose?.latencyMs === undefined ? '–' : `${fmt(pose.latencyMs, 1)} ms`;
+    byId('lnk-gaps').textContent = String(stats.totalGaps());
+    const body = byId('topics').querySelector('tbody')!;
+    body.replaceChildren(
+      ...stats.entries().map(([topic, s]) =>
+        h(
+          'tr',
+          { testid: `topic-${topic}` },
+          h('td', { text: topic }),
+          h('td', { class: 'mono', text: fmt(s.rateHz, 1) }),
+          h('td', { class: `mono${s.gaps ? ' warn' : ''}`, text: String(s.gaps) }),
+          h('td', { class: 'mono', text: s.latencyMs === null ? '–' : `${fmt(s.latencyMs, 1)} ms` }),
+        ),
+      ),
+    );
+  }
+}

@@ -1,0 +1,179 @@
+import { describe, expect, it } from 'vitest';
+import {
+  decodeBinaryFrame,
+  FrameError,
+  isReturn,
+  mapCorners,
+  mapFromJson,
+  parseHeader,
+  scanEndpoints,
+  scanFromJson,
+  UNKNOWN_CELL,
+} from '../src/frames';
+
+/** Writes a frame the way api/frame_codec.cpp does (header_bytes may be larger than 32). */
+function frame(topicId: number, body: ArrayBuffer, opts: { seq?: number; t?: number; wallUs?: number; headerBytes?: number } = {}): ArrayBuffer {
+  const headerBytes = opts.headerBytes ?? 32;
+  const buffer = new ArrayBuffer(headerBytes + body.byteLength);
+  const view = new DataView(buffer);
+  'MBT1'.split('').forEach((c, i) => view.setUint8(i, c.charCodeAt(0)));
+  view.setUint16(4, topicId, true);
+  view.setUint16(6, headerBytes, true);
+  view.setBigUint64(8, BigInt(opts.seq ?? 1), true);
+  view.setFloat64(16, opts.t ?? 0, true);
+  view.setBigInt64(24, BigInt(opts.wallUs ?? 0), true);
+  new Uint8Array(buffer, headerBytes).set(new Uint8Array(body));
+  return buffer;
+}
+
+function scanBody(ranges: number[], pose = { x: 1, y: 2, theta: Math.PI / 2 }): ArrayBuffer {
+  const body = new ArrayBuffer(32 + ranges.length * 4);
+  const view = new DataView(body);
+  view.setFloat32(0, -Math.PI / 2, true);
+  view.setFloat32(4, Math.PI / 2, true);
+  view.setFloat32(8, 0.1, true);
+  view.setFloat32(12, 10, true);
+  view.setFloat32(16, pose.x, true);
+  view.setFloat32(20, pose.y, true);
+  view.setFloat32(24, pose.theta, true);
+  view.setUint32(28, ranges.length, true);
+  ranges.forEach((r, i) => view.setFloat32(32 + 4 * i, r, true));
+  return body;
+}
+
+function mapBody(width: number, height: number, cells: number[], id = 7): ArrayBuffer {
+  const body = new ArrayBuffer(32 + width * height);
+  const view = new DataView(body);
+  view.setUint32(0, width, true);
+  view.setUint32(4, height, true);
+  view.setFloat32(8, 0.05, true);
+  view.setFloat32(12, -1.5, true);
+  view.setFloat32(16, -2.5, true);
+  view.setFloat32(20, 0, true);
+  view.setUint32(24, id, true);
+  view.setUint32(28, 0, true);
+  new Uint8Array(body, 32).set(cells);
+  return body;
+}
+
+describe('binary header', () => {
+  it('reads magic, topic, seq, t and wall_us', () => {
+    const h = parseHeader(frame(1, scanBody([1]), { seq: 42, t: 12.5, wallUs: 1_700_000_000_123_456 }));
+    expect(h).toEqual({ topicId: 1, topic: 'scan', headerBytes: 32, seq: 42, t: 12.5, wallUs: 1_700_000_000_123_456 });
+  });
+
+  it('rejects a bad magic and short frames', () => {
+    const buffer = frame(1, scanBody([1]));
+    new DataView(buffer).setUint8(0, 'X'.charCodeAt(0));
+    expect(() => parseHeader(buffer)).toThrow(FrameError);
+    expect(() => parseHeader(new ArrayBuffer(10))).toThrow(FrameError);
+  });
+
+  it('rejects a header_bytes beyond the frame', () => {
+    const buffer = frame(1, new ArrayBuffer(0));
+    new DataView(buffer).setUint16(6, 64, true);
+    expect(() => parseHeader(buffer)).toThrow(FrameError);
+  });
+});
+
+describe('scan frames', () => {
+  it('decodes the body with a Float32Array view over the ranges', () => {
+    const decoded = decodeBinaryFrame(frame(1, scanBody([1, 2, 3]), { seq: 3 }));
+    expect(decoded.kind).toBe('scan');
+    if (decoded.kind !== 'scan') return;
+    const scan = decoded.scan;
+    expect(scan.angleMin).toBeCloseTo(-Math.PI / 2, 6);
+    expect(scan.angleIncrement).toBeCloseTo(Math.PI / 2, 6);
+    expect(scan.rangeMin).toBeCloseTo(0.1, 6);
+    expect(scan.rangeMax).toBe(10);
+    expect(scan.sensorPose.x).toBe(1);
+    expect(scan.sensorPose.y).toBe(2);
+    expect(Array.from(scan.ranges)).toEqual([1, 2, 3]);
+    expect(scan.ranges.buffer.byteLength).toBeGreaterThan(scan.ranges.byteLength); // a view, not a copy
+  });
+
+  it('honours a header grown beyond 32 bytes', () => {
+    const decoded = decodeBinaryFrame(frame(1, scanBody([4, 5]), { headerBytes: 48 }));
+    expect(decoded.header.headerBytes).toBe(48);
+    if (decoded.kind !== 'scan') throw new Error('not a scan');
+    expect(Array.from(decoded.scan.ranges)).toEqual([4, 5]);
+  });
+
+  it('copies when the body is not 4-byte aligned', () => {
+    const decoded = decodeBinaryFrame(frame(1, scanBody([6, 7]), { headerBytes: 34 }));
+    if (decoded.kind !== 'scan') throw new Error('not a scan');
+    expect(Array.from(decoded.scan.ranges)).toEqual([6, 7]);
+  });
+
+  it('refuses a count larger than the frame', () => {
+    const body = scanBody([1, 2]);
+    new DataView(body).setUint32(28, 100, true);
+    expect(() => decodeBinaryFrame(frame(1, body))).toThrow(FrameError);
+  });
+
+  it('puts end points in the map frame and skips non-returns', () => {
+    // Sensor at (1, 2) facing +y; beams at -90°, 0°, +90° relative -> map +x, +y, -x.
+    const decoded = decodeBinaryFrame(frame(1, scanBody([2, Infinity, 0.05, NaN, 3].slice(0, 3))));
+    if (decoded.kind !== 'scan') throw new Error('not a scan');
+    const { points, count } = scanEndpoints(decoded.scan, new Float32Array(0));
+    expect(count).toBe(1); // Inf and 0.05 (< range_min) are no return
+    expect(points[0]).toBeCloseTo(3, 5);
+    expect(points[1]).toBeCloseTo(2, 5);
+    expect(isReturn(10, 0.1, 10)).toBe(true);
+    expect(isReturn(10.01, 0.1, 10)).toBe(false);
+    expect(isReturn(NaN, 0.1, 10)).toBe(false);
+  });
+
+  it('decodes the JSON encoding to the same shape (null = no return)', () => {
+    const scan = scanFromJson({
+      angle_min: -1,
+      angle_increment: 0.5,
+      range_min: 0.1,
+      range_max: 5,
+      ranges: [1, null, 2],
+      sensor_pose: { x: 0, y: 0, theta: 0 },
+    });
+    expect(scan.ranges.length).toBe(3);
+    expect(Number.isNaN(scan.ranges[1])).toBe(true);
+    expect(scanEndpoints(scan, new Float32Array(0)).count).toBe(2);
+  });
+});
+
+describe('map frames', () => {
+  it('decodes size, resolution, origin, id and cells (row 0 at the bottom)', () => {
+    const decoded = decodeBinaryFrame(frame(2, mapBody(3, 2, [0, 100, 255, 50, 0, 0])));
+    expect(decoded.kind).toBe('map');
+    if (decoded.kind !== 'map') return;
+    const map = decoded.map;
+    expect(map.width).toBe(3);
+    expect(map.height).toBe(2);
+    expect(map.resolution).toBeCloseTo(0.05, 6);
+    expect(map.origin).toEqual({ x: -1.5, y: -2.5, theta: 0 });
+    expect(map.id).toBe(7);
+    expect(Array.from(map.cells)).toEqual([0, 100, 255, 50, 0, 0]);
+  });
+
+  it('refuses a map with fewer cells than width x height', () => {
+    const body = mapBody(3, 2, [0, 0, 0, 0, 0, 0]);
+    new DataView(body).setUint32(4, 50, true);
+    expect(() => decodeBinaryFrame(frame(2, body))).toThrow(FrameError);
+  });
+
+  it('maps JSON -1 to unknown', () => {
+    const map = mapFromJson({ id: 0, width: 2, height: 1, resolution: 0.1, origin: { x: 0, y: 0, theta: 0 }, data: [-1, 42] });
+    expect(Array.from(map.cells)).toEqual([UNKNOWN_CELL, 42]);
+  });
+
+  it('computes the corners of a rotated grid', () => {
+    const map = mapFromJson({ id: 0, width: 10, height: 20, resolution: 0.1, origin: { x: 1, y: 1, theta: Math.PI / 2 }, data: [] });
+    const corners = mapCorners(map);
+    expect(corners[1]![0]).toBeCloseTo(1, 9); // +x of the grid points along map +y
+    expect(corners[1]![1]).toBeCloseTo(2, 9);
+    expect(corners[3]![0]).toBeCloseTo(-1, 9);
+    expect(corners[3]![1]).toBeCloseTo(1, 9);
+  });
+
+  it('leaves unknown topics to the caller', () => {
+    expect(decodeBinaryFrame(frame(5, new ArrayBuffer(8))).kind).toBe('other');
+  });
+});
