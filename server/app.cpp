@@ -197,6 +197,14 @@ msgs::Twist App::teleop(const msgs::Twist& command, int ttl_ms) {
   return robot_->teleop(command, ttl_ms);
 }
 
+bool App::set_estop(bool engaged) {
+  const bool estop = robot_->set_estop(engaged);
+  // The robot is already stopped; the reply waits until the e-stop event is on disk, so an
+  // acknowledged e-stop is in the run even if the server is killed right after.
+  recorder_->flush();
+  return estop;
+}
+
 std::vector<api::MapInfo> App::list_maps() const {
   std::vector<api::MapInfo> out;
   for (const auto& meta : maps_.list()) out.push_back(to_api(meta));
@@ -314,6 +322,7 @@ void App::sim_reset(const api::SimResetRequest& request) {
   }
   if (world) ensure_world_map(world->name, world->floor);
   robot_->reset(std::move(world), request.pose, request.seed);
+  recorder_->flush();
   if (request.world) publish_active_map();
 }
 

@@ -41,7 +41,7 @@ class App final : public api::RobotPort {
   double uptime_s() const override;
   api::RobotSnapshot snapshot() const override { return robot_->snapshot(); }
   msgs::Twist teleop(const msgs::Twist& command, int ttl_ms) override;
-  bool set_estop(bool engaged) override { return robot_->set_estop(engaged); }
+  bool set_estop(bool engaged) override;
 
   std::vector<api::MapInfo> list_maps() const override;
   std::optional<api::MapInfo> map_info(std::int64_t id) const override;

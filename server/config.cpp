@@ -3,6 +3,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace mobot::server {
@@ -48,7 +50,7 @@ class Reader {
   YAML::Node lookup(const char* section, const char* key) const {
     if (section == nullptr) return root_[key];
     const YAML::Node parent = root_[section];
-    if (!parent) return {};
+    if (!parent) return YAML::Node(YAML::NodeType::Undefined);
     if (!parent.IsMap()) throw ConfigError(std::string(section) + ": expected a mapping");
     return parent[key];
   }
@@ -89,6 +91,33 @@ void read_mux(const Reader& reader, RobotSection& robot) {
   }
 }
 
+// A misspelt key would otherwise be ignored silently and the default used instead.
+void reject_unknown_keys(const YAML::Node& root) {
+  static const std::map<std::string, std::set<std::string>> kKnown{
+      {"server", {"bind", "port", "data_dir", "web_dir"}},
+      {"robot",
+       {"name", "kinematics", "control_rate_hz", "laser_rate_hz", "sonar_rate_hz",
+        "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms"}},
+      {"limits",
+       {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2"}},
+      {"sim", {"world", "worlds_dir", "seed", "time_scale"}},
+      {"recorder", {"trajectory_rate_hz", "flush_period_ms"}},
+      {"stream", {"max_frames_per_topic"}},
+  };
+  static const std::set<std::string> kScalars{"backend", "run_name", "mux"};
+  for (const auto& entry : root) {
+    const auto key = entry.first.as<std::string>();
+    if (kScalars.contains(key)) continue;
+    const auto section = kKnown.find(key);
+    if (section == kKnown.end()) throw ConfigError(key + ": unknown key");
+    if (!entry.second.IsMap()) continue;  // the reader reports the type
+    for (const auto& field : entry.second) {
+      const auto name = field.first.as<std::string>();
+      if (!section->second.contains(name)) throw ConfigError(key + "." + name + ": unknown key");
+    }
+  }
+}
+
 }  // namespace
 
 Config load_config(const std::filesystem::path& file) {
@@ -103,6 +132,7 @@ Config load_config(const std::filesystem::path& file) {
   if (root.IsNull()) return {};
   if (!root.IsMap()) throw ConfigError(file.string() + ": expected a mapping at the top level");
 
+  reject_unknown_keys(root);
   Config config;
   const Reader reader(root);
   reader.read(nullptr, "backend", config.backend);

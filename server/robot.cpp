@@ -97,9 +97,7 @@ void Robot::check_faults() {
   for (const auto& collision : sim_->take_collisions()) {
     ++collisions_;
     // The base stops and stays stopped until somebody commands it again.
-    mux_.clear("teleop");
-    mux_.clear("navigation");
-    smoother_.halt();
+    drop_commands();
     record_event("collision", {{"with", collision.with},
                                {"x", collision.pose.x},
                                {"y", collision.pose.y}});
@@ -180,10 +178,8 @@ bool Robot::set_estop(bool engaged) {
   if (engaged != estop_) {
     estop_ = engaged;
     if (engaged) {
-      smoother_.halt();
+      drop_commands();
       sim_->set_command({});
-      mux_.clear("teleop");
-      mux_.clear("navigation");
     }
     record_event("estop", {{"engaged", engaged}});
     hub_.flush();
@@ -236,8 +232,7 @@ void Robot::reset(std::optional<sim::World> world, std::optional<geometry::Pose2
     sim_->reset(pose.value_or(sim_->world().start), seed_);
   }
   start_estimation(sim_->true_pose());
-  mux_.clear_all();
-  smoother_.halt();
+  drop_commands();
   next_laser_s_ = next_sonar_s_ = next_compass_s_ = next_status_s_ = next_sample_s_ = 0.0;
   record_event("sim_reset", {{"world", sim_->world().name},
                              {"x", sim_->true_pose().x},
@@ -263,9 +258,16 @@ bool Robot::remove_obstacle(int id) {
 
 void Robot::halt() {
   std::lock_guard lock(mutex_);
+  drop_commands();
+  sim_->set_command({});
+}
+
+void Robot::drop_commands() {
   mux_.clear_all();
   smoother_.halt();
-  sim_->set_command({});
+  // A command dropped on purpose (e-stop, collision, reset) did not time out: no teleop_timeout.
+  last_teleop_ = {};
+  teleop_was_active_ = false;
 }
 
 std::string Robot::world_name() const {

@@ -54,6 +54,8 @@ class Robot {
   void check_faults();
   void drive();
   void publish();
+  // Forgets every pending command and halts the smoother (the caller holds the mutex).
+  void drop_commands();
   void record_event(const std::string& kind, const nlohmann::json& detail);
   std::string mode() const;
   api::RobotSnapshot snapshot_locked() const;

@@ -1,0 +1,81 @@
+#include "server/config.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace mobot::server {
+namespace {
+
+std::filesystem::path write_config(const std::string& text) {
+  static int counter = 0;
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("mobot_config_" + std::to_string(::getpid()) + "_" +
+                     std::to_string(counter++) + ".yaml");
+  std::ofstream(file) << text;
+  return file;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    load_config(write_config(text));
+  } catch (const ConfigError& error) {
+    return error.what();
+  }
+  return "<no error>";
+}
+
+TEST(Config, TheShippedDefaultLoads) {
+  const Config config = load_config(std::filesystem::path(MOBOT_SOURCE_ROOT) /
+                                    "deploy/config/default.yaml");
+  EXPECT_EQ(config.backend, "sim");
+  EXPECT_DOUBLE_EQ(config.robot.control_rate_hz, 50.0);
+  EXPECT_EQ(config.sim.world, "office");
+  EXPECT_EQ(config.robot.mux_sources.size(), 4U);
+}
+
+TEST(Config, AnEmptyFileGivesTheDefaults) {
+  const Config config = load_config(write_config(""));
+  EXPECT_EQ(config.server.port, 8080);
+  EXPECT_DOUBLE_EQ(config.robot.laser_rate_hz, 10.0);
+}
+
+TEST(Config, ReadsValues) {
+  const Config config = load_config(write_config(
+      "server: {port: 9000}\nrobot: {laser_rate_hz: 40}\nsim: {world: g2_lobby, seed: 7}\n"));
+  EXPECT_EQ(config.server.port, 9000);
+  EXPECT_DOUBLE_EQ(config.robot.laser_rate_hz, 40.0);
+  EXPECT_EQ(config.sim.world, "g2_lobby");
+  EXPECT_EQ(config.sim.seed, 7U);
+}
+
+TEST(Config, MessagesNameTheKeyAndTheRange) {
+  EXPECT_EQ(error_of("robot: {laser_rate_hz: 100}"),
+            "robot.laser_rate_hz: 100 is outside the allowed range [1, 40]");
+  EXPECT_EQ(error_of("server: {port: lots}"), "server.port: expected an integer");
+  EXPECT_EQ(error_of("sim: {time_scale: 0}"),
+            "sim.time_scale: 0 is outside the allowed range [0.1, 100]");
+  EXPECT_NE(error_of("backend: cloud").find("backend: 'cloud'"), std::string::npos);
+}
+
+TEST(Config, MisspeltKeysAreRejected) {
+  EXPECT_EQ(error_of("robot: {laser_rate: 20}"), "robot.laser_rate: unknown key");
+  EXPECT_EQ(error_of("robots: {}"), "robots: unknown key");
+}
+
+TEST(Config, TheMuxNeedsSafetyAndTeleop) {
+  EXPECT_NE(error_of("mux: [{name: teleop, priority: 7, timeout_s: 1}]").find("'safety'"),
+            std::string::npos);
+  EXPECT_NE(error_of("mux: [{name: teleop}]").find("mux[0]"), std::string::npos);
+}
+
+TEST(Config, UnreadableAndMalformedFilesAreReported) {
+  EXPECT_THROW(load_config("/nonexistent/mobot.yaml"), ConfigError);
+  EXPECT_THROW(load_config(write_config("server: [unclosed")), ConfigError);
+  EXPECT_THROW(load_config(write_config("- a list")), ConfigError);
+}
+
+}  // namespace
+}  // namespace mobot::server
