@@ -1,0 +1,13 @@
+#include "core/planning/global_planner_factory.h"
+
+namespace mobot::planning {
+
+std::unique_ptr<GlobalPlanner> make_global_planner(std::string_view name,
+                                                   const GlobalPlannerOptions& options) {
+  if (name == "astar") return std::make_unique<AStarPlanner>(options.astar);
+  return nullptr;
+}
+
+std::vector<std::string_view> global_planner_names() { return {"astar"}; }
+
+}  // namespace mobot::planning
