@@ -27,7 +27,9 @@ void HttpSession::start() {
 void HttpSession::read_header() {
   parser_.emplace();
   parser_->header_limit(kHeaderLimit);
-  parser_->body_limit(64 * 1024);
+  // Beast checks Content-Length against the body limit while it parses the header, before the
+  // path is known: start with the largest limit any endpoint allows and narrow it in on_header.
+  parser_->body_limit(RestApi::kMaxBodyLimit);
   stream_.expires_after(kIdleTimeout);
   http::async_read_header(stream_, buffer_, *parser_,
                           [self = shared_from_this()](boost::beast::error_code error, std::size_t) {
@@ -36,12 +38,17 @@ void HttpSession::read_header() {
 }
 
 void HttpSession::on_header(boost::beast::error_code error) {
-  if (error == http::error::end_of_stream || error) {
-    if (error == http::error::header_limit) {
-      Request bare;
-      send(error_response(bare, 431, "header_too_large", "request header too large"), true);
-      return;
-    }
+  if (error == http::error::header_limit) {
+    Request bare;
+    send(error_response(bare, 431, "header_too_large", "request header too large"), true);
+    return;
+  }
+  if (error == http::error::body_limit) {
+    Request bare;
+    send(error_response(bare, 413, "body_too_large", "request body too large"), true);
+    return;
+  }
+  if (error) {
     close();
     return;
   }

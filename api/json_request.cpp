@@ -41,7 +41,8 @@ nlohmann::json parse_json_body(std::string_view body) {
     nlohmann::json parsed = nlohmann::json::parse(body);
     if (!parsed.is_object()) throw ApiError(400, "invalid_body", "the body must be a JSON object");
     return parsed;
-  } catch (const nlohmann::json::parse_error& error) {
+  } catch (const nlohmann::json::exception& error) {
+    // parse_error, and out_of_range for numbers beyond a double (1e999).
     throw ApiError(400, "malformed_json", std::string("the body is not valid JSON: ") + error.what());
   }
 }

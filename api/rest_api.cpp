@@ -1,5 +1,6 @@
 #include "api/rest_api.h"
 
+#include <cctype>
 #include <charconv>
 
 #include "api/api_error.h"
@@ -11,7 +12,7 @@ namespace mobot::api {
 namespace {
 
 constexpr std::size_t kDefaultBodyLimit = 64 * 1024;
-constexpr std::size_t kMapImportBodyLimit = 8 * 1024 * 1024;
+constexpr std::size_t kMapImportBodyLimit = RestApi::kMaxBodyLimit;
 
 std::vector<std::string_view> split_path(std::string_view path) {
   std::vector<std::string_view> segments;
@@ -27,8 +28,12 @@ std::vector<std::string_view> split_path(std::string_view path) {
 
 std::string bearer_token(const Request& request) {
   const auto header = request[http::field::authorization];
-  constexpr std::string_view kPrefix = "Bearer ";
-  if (header.size() <= kPrefix.size() || !header.starts_with(kPrefix)) return {};
+  constexpr std::string_view kPrefix = "bearer ";
+  if (header.size() <= kPrefix.size()) return {};
+  // RFC 7235: the scheme name is case-insensitive.
+  for (std::size_t i = 0; i < kPrefix.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(header[i])) != kPrefix[i]) return {};
+  }
   return std::string(header.substr(kPrefix.size()));
 }
 

@@ -31,6 +31,8 @@ class RestApi {
   std::optional<Role> stream_role(const Request& request) const;
   // The largest body accepted for a request line, checked before the body is read.
   static std::size_t body_limit(http::verb method, std::string_view target);
+  // The largest body_limit() of any request (map import).
+  static constexpr std::size_t kMaxBodyLimit = 8 * 1024 * 1024;
   std::string metrics_text() const;
   void count_response(unsigned status);
 

@@ -281,6 +281,7 @@ void StreamSession::queue_control(std::shared_ptr<const std::string> frame) {
 
 void StreamSession::write_pending() {
   std::vector<boost::asio::const_buffer> buffers;
+  bool close_frame_sent = false;
   {
     std::lock_guard lock(mutex_);
     if (writing_ || closed_) return;
@@ -290,17 +291,19 @@ void StreamSession::write_pending() {
       for (auto& frame : queue) in_flight_.push_back(std::move(frame));
       queue.clear();
     }
-    if (in_flight_.empty()) {
-      if (closing_) {
-        closed_ = true;
-        boost::system::error_code ignored;
-        socket_.shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
-      }
-      return;
+    if (in_flight_.empty() && !closing_) return;
+    close_frame_sent = in_flight_.empty();
+    if (!close_frame_sent) {
+      writing_ = true;
+      buffers.reserve(in_flight_.size());
+      for (const auto& frame : in_flight_) buffers.emplace_back(frame->data(), frame->size());
     }
-    writing_ = true;
-    buffers.reserve(in_flight_.size());
-    for (const auto& frame : in_flight_) buffers.emplace_back(frame->data(), frame->size());
+  }
+  if (close_frame_sent) {
+    // Everything up to the close frame is written: release the socket and leave the hub, or the
+    // session (and its file descriptor) would live on after the client has gone.
+    shut_down();
+    return;
   }
   boost::asio::async_write(
       socket_, buffers,

@@ -134,6 +134,13 @@ void App::publish_active_map() {
 }
 
 int App::run() {
+  // Installed before the ready line: a SIGTERM right after it must stop the server cleanly, not
+  // kill it with the default disposition.
+  boost::asio::io_context signals_io;
+  boost::asio::signal_set signals(signals_io, SIGINT, SIGTERM);
+  int received = 0;
+  signals.async_wait([&](boost::system::error_code, int signal) { received = signal; });
+
   const auto endpoint = http_.listen({config_.server.bind_address, config_.server.port});
   loop_->start(config_.sim.time_scale);
   const unsigned threads = std::max(2U, std::thread::hardware_concurrency());
@@ -148,10 +155,6 @@ int App::run() {
     std::cout << "dashboard: " << url << "/?token=" << admin_token << std::endl;
   }
 
-  boost::asio::io_context signals_io;
-  boost::asio::signal_set signals(signals_io, SIGINT, SIGTERM);
-  int received = 0;
-  signals.async_wait([&](boost::system::error_code, int signal) { received = signal; });
   signals_io.run();
   spdlog::info("signal {} received: stopping the robot and closing the run", received);
   shut_down();

@@ -34,7 +34,12 @@ Robot::Robot(const Config& config, sim::World world, api::StreamHub& hub, Record
       seed_(config.sim.seed),
       odometry_(nominal_odometry(sim::r1_profile())),
       mux_(config.robot.mux_sources),
-      smoother_(config.robot.limits) {
+      smoother_(config.robot.limits),
+      laser_schedule_(1.0 / config.robot.laser_rate_hz),
+      sonar_schedule_(1.0 / config.robot.sonar_rate_hz),
+      compass_schedule_(1.0 / config.robot.compass_rate_hz),
+      status_schedule_(1.0),
+      sample_schedule_(1.0 / config.recorder.trajectory_rate_hz) {
   const geometry::Pose2D start = world.start;
   sim_ = std::make_unique<sim::Simulator>(std::move(world), sim::r1_profile(), seed_);
   start_estimation(start);
@@ -54,6 +59,7 @@ void Robot::start_estimation(const geometry::Pose2D& pose) {
 void Robot::tick() {
   std::lock_guard lock(mutex_);
   sim_->step(period_s_);
+  now_s_ += period_s_;
   ++ticks_;
   read_sensors();
   check_faults();
@@ -63,23 +69,28 @@ void Robot::tick() {
 }
 
 void Robot::read_sensors() {
-  const double t_s = sim_->time_s();
-  update_odometry(sim_->read_encoders());
+  const double t_s = now_s_;
+  msgs::WheelEncoders encoders = sim_->read_encoders();
+  encoders.stamp_s = t_s;
+  update_odometry(encoders);
   watchdog_.seen("encoders", t_s);
-  if (t_s + 1e-9 >= next_laser_s_) {
+  if (laser_schedule_.due(t_s)) {
     new_scan_ = sim_->read_laser();
+    new_scan_->stamp_s = t_s;
     watchdog_.seen("laser", t_s);
-    next_laser_s_ = std::max(next_laser_s_ + 1.0 / config_.robot.laser_rate_hz, t_s);
+    laser_schedule_.taken(t_s);
   }
-  if (t_s + 1e-9 >= next_sonar_s_) {
+  if (sonar_schedule_.due(t_s)) {
     new_sonar_ = sim_->read_sonar();
+    new_sonar_->stamp_s = t_s;
     watchdog_.seen("sonar", t_s);
-    next_sonar_s_ = std::max(next_sonar_s_ + 1.0 / config_.robot.sonar_rate_hz, t_s);
+    sonar_schedule_.taken(t_s);
   }
-  if (t_s + 1e-9 >= next_compass_s_) {
+  if (compass_schedule_.due(t_s)) {
     compass_ = sim_->read_compass();
+    compass_->stamp_s = t_s;
     watchdog_.seen("compass", t_s);
-    next_compass_s_ = std::max(next_compass_s_ + 1.0 / config_.robot.compass_rate_hz, t_s);
+    compass_schedule_.taken(t_s);
   }
 }
 
@@ -93,7 +104,7 @@ void Robot::update_odometry(const msgs::WheelEncoders& encoders) {
 }
 
 void Robot::check_faults() {
-  const double t_s = sim_->time_s();
+  const double t_s = now_s_;
   for (const auto& collision : sim_->take_collisions()) {
     ++collisions_;
     // The base stops and stays stopped until somebody commands it again.
@@ -115,7 +126,7 @@ void Robot::check_faults() {
 }
 
 void Robot::drive() {
-  const double t_s = sim_->time_s();
+  const double t_s = now_s_;
   const bool teleop_active = mux_.is_active("teleop", t_s);
   if (teleop_was_active_ && !teleop_active &&
       (last_teleop_.linear_mps != 0.0 || last_teleop_.angular_radps != 0.0)) {
@@ -133,7 +144,7 @@ void Robot::drive() {
 }
 
 void Robot::publish() {
-  const double t_s = sim_->time_s();
+  const double t_s = now_s_;
   const msgs::Odometry& odom = odometry_.odometry();
   hub_.publish_pose(t_s, pose_, odom.twist, to_array(covariance_));
   hub_.publish_odom(odom);
@@ -146,20 +157,19 @@ void Robot::publish() {
     new_sonar_.reset();
   }
   hub_.publish_truth({t_s, sim_->true_pose(), sim_->collision_count()});
-  if (t_s + 1e-9 >= next_status_s_) {
+  if (status_schedule_.due(t_s)) {
     hub_.publish_status(snapshot_locked());
-    next_status_s_ = t_s + 1.0;
+    status_schedule_.taken(t_s);
   }
-  if (t_s + 1e-9 >= next_sample_s_) {
+  if (sample_schedule_.due(t_s)) {
     recorder_.record_pose(t_s, pose_.x, pose_.y, pose_.theta);
     recorder_.set_distance(distance_before_reset_m_ + odometry_.travelled_m());
-    next_sample_s_ += 1.0 / config_.recorder.trajectory_rate_hz;
-    if (next_sample_s_ < t_s) next_sample_s_ = t_s;
+    sample_schedule_.taken(t_s);
   }
 }
 
 void Robot::record_event(const std::string& kind, const nlohmann::json& detail) {
-  const double t_s = sim_->time_s();
+  const double t_s = now_s_;
   recorder_.record_event(t_s, kind, detail.dump());
   hub_.publish_event(t_s, kind, detail);
 }
@@ -168,7 +178,7 @@ msgs::Twist Robot::teleop(const msgs::Twist& command, int ttl_ms) {
   std::lock_guard lock(mutex_);
   if (estop_) throw api::ApiError(409, "estop_engaged", "e-stop is engaged: release it first");
   const msgs::Twist clamped = control::clamp_to_limits(command, config_.robot.limits);
-  mux_.submit("teleop", clamped, sim_->time_s(), ttl_ms / 1000.0);
+  mux_.submit("teleop", clamped, now_s_, ttl_ms / 1000.0);
   last_teleop_ = clamped;
   return clamped;
 }
@@ -189,7 +199,7 @@ bool Robot::set_estop(bool engaged) {
 
 std::string Robot::mode() const {
   if (estop_) return "estop";
-  if (mux_.is_active("teleop", sim_->time_s())) return "teleop";
+  if (mux_.is_active("teleop", now_s_)) return "teleop";
   return "idle";
 }
 
@@ -200,7 +210,7 @@ api::RobotSnapshot Robot::snapshot() const {
 
 api::RobotSnapshot Robot::snapshot_locked() const {
   api::RobotSnapshot snapshot;
-  snapshot.t_s = sim_->time_s();
+  snapshot.t_s = now_s_;
   snapshot.mode = mode();
   snapshot.pose = pose_;
   snapshot.velocity = odometry_.odometry().twist;
@@ -216,7 +226,7 @@ api::RobotSnapshot Robot::snapshot_locked() const {
 
 api::SimTruth Robot::truth() const {
   std::lock_guard lock(mutex_);
-  return {sim_->time_s(), sim_->true_pose(), sim_->collision_count()};
+  return {now_s_, sim_->true_pose(), sim_->collision_count()};
 }
 
 void Robot::reset(std::optional<sim::World> world, std::optional<geometry::Pose2D> pose,
@@ -233,7 +243,6 @@ void Robot::reset(std::optional<sim::World> world, std::optional<geometry::Pose2
   }
   start_estimation(sim_->true_pose());
   drop_commands();
-  next_laser_s_ = next_sonar_s_ = next_compass_s_ = next_status_s_ = next_sample_s_ = 0.0;
   record_event("sim_reset", {{"world", sim_->world().name},
                              {"x", sim_->true_pose().x},
                              {"y", sim_->true_pose().y},
@@ -284,14 +293,14 @@ std::string Robot::metrics_text() const {
   std::lock_guard lock(mutex_);
   std::string out;
   out += "# HELP mobot_robot_time_seconds Robot clock.\n# TYPE mobot_robot_time_seconds gauge\n";
-  out += "mobot_robot_time_seconds " + std::to_string(sim_->time_s()) + "\n";
+  out += "mobot_robot_time_seconds " + std::to_string(now_s_) + "\n";
   out += "# HELP mobot_collisions_total Collisions since start.\n";
   out += "# TYPE mobot_collisions_total counter\n";
   out += "mobot_collisions_total " + std::to_string(collisions_) + "\n";
   out += "# HELP mobot_estop E-stop engaged (1) or not (0).\n# TYPE mobot_estop gauge\n";
   out += "mobot_estop " + std::to_string(estop_ ? 1 : 0) + "\n";
   out += "# HELP mobot_sensor_rate_hz Measured sensor rate.\n# TYPE mobot_sensor_rate_hz gauge\n";
-  for (const auto& sensor : watchdog_.status(sim_->time_s())) {
+  for (const auto& sensor : watchdog_.status(now_s_)) {
     out += "mobot_sensor_rate_hz{sensor=\"" + sensor.name + "\"} " +
            std::to_string(sensor.rate_hz) + "\n";
   }

@@ -16,6 +16,7 @@
 #include "drivers/sim/simulator.h"
 #include "drivers/sim/world.h"
 #include "server/config.h"
+#include "server/rate_schedule.h"
 #include "server/recorder.h"
 
 namespace mobot::server {
@@ -76,15 +77,19 @@ class Robot {
   control::VelocitySmoother smoother_;
   safety::SensorWatchdog watchdog_;
 
+  // The robot clock: advances one period per tick and never goes back, not even when the
+  // simulator restarts (its own clock does), so the trajectory, the watchdog and the stream
+  // stamps stay monotonic across a sim reset.
+  double now_s_ = 0.0;
   bool estop_ = false;
   bool teleop_was_active_ = false;
   msgs::Twist last_teleop_;
   std::vector<std::string> stale_sensors_;
-  double next_laser_s_ = 0.0;
-  double next_sonar_s_ = 0.0;
-  double next_compass_s_ = 0.0;
-  double next_status_s_ = 0.0;
-  double next_sample_s_ = 0.0;
+  RateSchedule laser_schedule_;
+  RateSchedule sonar_schedule_;
+  RateSchedule compass_schedule_;
+  RateSchedule status_schedule_;
+  RateSchedule sample_schedule_;
   double distance_before_reset_m_ = 0.0;
   std::optional<msgs::LaserScan> new_scan_;
   std::optional<msgs::SonarRing> new_sonar_;
