@@ -27,10 +27,17 @@ class BodyCollider {
 
  private:
   bool touches_wall(const OrientedRect& footprint) const;
+  // True when no wall cell can reach a footprint centred in `cell` (cell in grid coordinates).
+  bool clear_of_walls(int x, int y) const;
 
   mapping::OccupancyGrid floor_;
   double half_length_m_;
   double half_width_m_;
+  // Per cell, with a ring of wall cells around the map (leaving it counts as a wall): the distance
+  // in cells between its centre and the nearest wall cell's centre. Lets the common case, a robot
+  // in open space, skip looking at the cells under it.
+  std::vector<float> wall_distance_cells_;
+  double half_diagonal_m_;
   std::vector<Box3D> boxes_;  // only those reaching into the body's height
 };
 

@@ -14,10 +14,9 @@ struct Interval {
 
 bool interiors_overlap(Interval a, Interval b) { return a.lo < b.hi && b.lo < a.hi; }
 
-// Projection of the rectangle onto the unit axis (axis_x, axis_y).
-Interval project(const OrientedRect& rect, double axis_x, double axis_y) {
-  const double c = std::cos(rect.center.theta);
-  const double s = std::sin(rect.center.theta);
+// Projection of the rectangle, turned by the angle with cosine c and sine s, onto the unit axis
+// (axis_x, axis_y).
+Interval project(const OrientedRect& rect, double c, double s, double axis_x, double axis_y) {
   const double middle = rect.center.x * axis_x + rect.center.y * axis_y;
   const double reach = rect.half_length_m * std::abs(c * axis_x + s * axis_y) +
                        rect.half_width_m * std::abs(-s * axis_x + c * axis_y);
@@ -41,7 +40,7 @@ bool overlaps(const OrientedRect& rect, const AxisAlignedRect& box) {
   const double s = std::sin(rect.center.theta);
   const std::array<std::array<double, 2>, 4> axes = {{{1.0, 0.0}, {0.0, 1.0}, {c, s}, {-s, c}}};
   for (const auto& axis : axes) {
-    if (!interiors_overlap(project(rect, axis[0], axis[1]), project(box, axis[0], axis[1]))) {
+    if (!interiors_overlap(project(rect, c, s, axis[0], axis[1]), project(box, axis[0], axis[1]))) {
       return false;
     }
   }
@@ -49,16 +48,17 @@ bool overlaps(const OrientedRect& rect, const AxisAlignedRect& box) {
 }
 
 bool overlaps_circle(const OrientedRect& rect, geometry::Point2D center, double radius_m) {
-  const geometry::Point2D local =
-      geometry::transform_point(geometry::inverse(rect.center), center);
+  const geometry::Point2D local = geometry::transform_point(geometry::inverse(rect.center), center);
   const double nearest_x = std::clamp(local.x, -rect.half_length_m, rect.half_length_m);
   const double nearest_y = std::clamp(local.y, -rect.half_width_m, rect.half_width_m);
   return std::hypot(local.x - nearest_x, local.y - nearest_y) < radius_m;
 }
 
 AxisAlignedRect bounding_box(const OrientedRect& rect) {
-  const Interval x = project(rect, 1.0, 0.0);
-  const Interval y = project(rect, 0.0, 1.0);
+  const double c = std::cos(rect.center.theta);
+  const double s = std::sin(rect.center.theta);
+  const Interval x = project(rect, c, s, 1.0, 0.0);
+  const Interval y = project(rect, c, s, 0.0, 1.0);
   return {x.lo, y.lo, x.hi, y.hi};
 }
 

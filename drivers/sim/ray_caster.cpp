@@ -19,6 +19,9 @@ constexpr int kMaxJumpCells = 253;
 constexpr int kMinJumpCells = 2;
 // While walking, go back to jumping once a cell allows a jump at least this long.
 constexpr int kResumeJumpCells = 3;
+// A tile's jump is the shortest of its 64 cells'; below this the cell's own (longer) jump is
+// worth the extra read, above it the ray is in open space anyway.
+constexpr int kTrustTileJumpCells = 32;
 // Keeps rounding in the distance transform from ever letting a jump touch a blocking cell.
 constexpr double kJumpMarginCells = 1e-3;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -59,6 +62,8 @@ struct RayCaster::Ray {
   double origin_y = 0.0;
   double dir_x = 0.0;
   double dir_y = 0.0;
+  double inverse_dir_x = 0.0;  // 1 / dir, or 0 along an axis the ray does not move on
+  double inverse_dir_y = 0.0;
   double t_start = 0.0;  // where the ray is first inside the grid
   double t_end = 0.0;    // where it leaves the grid or runs out of range
 
@@ -82,8 +87,8 @@ class RayCaster::CellWalk {
         boundary_y_(ray.dir_y == 0.0 ? kInfinity : start_y + (ray.dir_y > 0.0 ? 1.0 : 0.0)),
         origin_x_(ray.origin_x),
         origin_y_(ray.origin_y),
-        inverse_dir_x_(ray.dir_x == 0.0 ? 1.0 : 1.0 / ray.dir_x),
-        inverse_dir_y_(ray.dir_y == 0.0 ? 1.0 : 1.0 / ray.dir_y) {}
+        inverse_dir_x_(ray.dir_x == 0.0 ? 1.0 : ray.inverse_dir_x),
+        inverse_dir_y_(ray.dir_y == 0.0 ? 1.0 : ray.inverse_dir_y) {}
 
   // Moves into the next cell and returns the ray parameter where the ray enters it.
   double advance() {
@@ -150,21 +155,23 @@ bool RayCaster::to_grid(geometry::Point2D from, double grid_dir_x, double grid_d
          (-origin_sin_ * dx_m + origin_cos_ * dy_m) / resolution_m_,
          grid_dir_x,
          grid_dir_y,
+         grid_dir_x == 0.0 ? 0.0 : 1.0 / grid_dir_x,
+         grid_dir_y == 0.0 ? 0.0 : 1.0 / grid_dir_y,
          0.0,
          max_range_m / resolution_m_};
   // Slab test against [0, width) x [0, height).
-  const auto clip_axis = [&ray](double origin, double dir, double size) {
+  const auto clip_axis = [&ray](double origin, double dir, double inverse_dir, double size) {
     if (dir == 0.0) {
       if (origin < 0.0 || origin >= size) ray.t_end = -1.0;
       return;
     }
-    const double t_a = (0.0 - origin) / dir;
-    const double t_b = (size - origin) / dir;
+    const double t_a = (0.0 - origin) * inverse_dir;
+    const double t_b = (size - origin) * inverse_dir;
     ray.t_start = std::max(ray.t_start, std::min(t_a, t_b));
     ray.t_end = std::min(ray.t_end, std::max(t_a, t_b));
   };
-  clip_axis(ray.origin_x, ray.dir_x, width_);
-  clip_axis(ray.origin_y, ray.dir_y, height_);
+  clip_axis(ray.origin_x, ray.dir_x, ray.inverse_dir_x, width_);
+  clip_axis(ray.origin_y, ray.dir_y, ray.inverse_dir_y, height_);
   return ray.t_start <= ray.t_end;
 }
 
@@ -174,7 +181,7 @@ double RayCaster::trace(const Ray& ray) const {
   int y = ray.cell_y(t);
   while (true) {
     int jump_cells = tile_jump_at(x, y);
-    if (jump_cells < kMinJumpCells) {
+    if (jump_cells < kTrustTileJumpCells) {
       const std::uint8_t clearance = clearance_at(x, y);
       if (clearance == kBlocked) return t;
       jump_cells = clearance - 1;
@@ -230,8 +237,8 @@ void RayCaster::cast_fan(geometry::Point2D from, double first_angle_rad, double 
   const double turn_sin = std::sin(increment_rad);
   for (double& range_m : ranges_m) {
     Ray ray;
-    range_m = to_grid(from, dir_x, dir_y, max_range_m, ray) ? trace(ray) * resolution_m_
-                                                            : kInfinity;
+    range_m =
+        to_grid(from, dir_x, dir_y, max_range_m, ray) ? trace(ray) * resolution_m_ : kInfinity;
     // Rotating the direction drifts by about one ulp per beam: nothing over a scan.
     const double next_x = dir_x * turn_cos - dir_y * turn_sin;
     dir_y = dir_x * turn_sin + dir_y * turn_cos;

@@ -11,9 +11,8 @@ double degrees(double angle_deg) { return angle_deg * std::numbers::pi / 180.0; 
 // Four SRF05 across the front, two on each side, all on the edge of the 0.6 x 0.6 m body.
 std::vector<geometry::Pose2D> r1_sonars() {
   return {
-      {0.30, 0.20, degrees(45.0)},   {0.30, 0.07, degrees(15.0)},
-      {0.30, -0.07, degrees(-15.0)}, {0.30, -0.20, degrees(-45.0)},
-      {0.15, 0.30, degrees(90.0)},   {-0.15, 0.30, degrees(90.0)},
+      {0.30, 0.20, degrees(45.0)},   {0.30, 0.07, degrees(15.0)},    {0.30, -0.07, degrees(-15.0)},
+      {0.30, -0.20, degrees(-45.0)}, {0.15, 0.30, degrees(90.0)},    {-0.15, 0.30, degrees(90.0)},
       {0.15, -0.30, degrees(-90.0)}, {-0.15, -0.30, degrees(-90.0)},
   };
 }
@@ -26,7 +25,7 @@ RobotProfile r1_profile() {
   p.wheel_radius_m = 0.075;
   p.track_m = 0.60;
   // 500-slot encoder on the motor shaft, counted in quadrature (x4), behind a 19:1 gearbox.
-  p.ticks_per_wheel_rev = 500 * 4 * 19;
+  p.ticks_per_wheel_rev = std::int64_t{500} * 4 * 19;
 
   p.footprint_length_m = 0.6;
   p.footprint_width_m = 0.6;

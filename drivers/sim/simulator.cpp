@@ -36,10 +36,10 @@ RobotProfile validated(RobotProfile p) {
   const auto positive = [](double value) { return std::isfinite(value) && value > 0.0; };
   if (!positive(p.wheel_radius_m) || !positive(p.track_m) || p.ticks_per_wheel_rev <= 0 ||
       !positive(p.footprint_length_m) || !positive(p.footprint_width_m) || !positive(p.height_m) ||
-      !positive(p.laser_step_rad) || !positive(p.laser_fov_rad) ||
-      !positive(p.laser_range_max_m) || !positive(p.sonar_range_max_m) ||
-      !positive(p.left_wheel_scale) || !positive(p.right_wheel_scale) ||
-      !positive(p.track_scale) || !positive(p.max_linear_mps) || !positive(p.max_angular_radps)) {
+      !positive(p.laser_step_rad) || !positive(p.laser_fov_rad) || !positive(p.laser_range_max_m) ||
+      !positive(p.sonar_range_max_m) || !positive(p.left_wheel_scale) ||
+      !positive(p.right_wheel_scale) || !positive(p.track_scale) || !positive(p.max_linear_mps) ||
+      !positive(p.max_angular_radps)) {
     throw std::invalid_argument("robot profile: geometry, ranges, scales and limits must be > 0");
   }
   return p;
@@ -48,8 +48,7 @@ RobotProfile validated(RobotProfile p) {
 msgs::Twist clamp_command(const msgs::Twist& command, const RobotProfile& profile) {
   if (!std::isfinite(command.linear_mps) || !std::isfinite(command.angular_radps)) return {};
   return {std::clamp(command.linear_mps, -profile.max_linear_mps, profile.max_linear_mps),
-          std::clamp(command.angular_radps, -profile.max_angular_radps,
-                     profile.max_angular_radps)};
+          std::clamp(command.angular_radps, -profile.max_angular_radps, profile.max_angular_radps)};
 }
 
 }  // namespace
@@ -93,7 +92,8 @@ void Simulator::step(double dt_s) {
   update_wheel_noise(dt_s);
   // The motor controllers turn each wheel at the speed the nominal geometry asks for, give or take
   // the PID error; the true radii then decide how far the robot rolls.
-  const kinematics::WheelSpeeds wheel_mps = kinematics::wheels_from_twist(command_, profile_.track_m);
+  const kinematics::WheelSpeeds wheel_mps =
+      kinematics::wheels_from_twist(command_, profile_.track_m);
   const WheelAngles rotation{
       wheel_mps.left_mps / profile_.wheel_radius_m * (1.0 + left_speed_error_) * dt_s,
       wheel_mps.right_mps / profile_.wheel_radius_m * (1.0 + right_speed_error_) * dt_s};
@@ -101,8 +101,9 @@ void Simulator::step(double dt_s) {
   const double half_diagonal_m =
       std::hypot(profile_.footprint_length_m, profile_.footprint_width_m) / 2.0;
   const geometry::Pose2D full = pose_after(pose_, rotation, 1.0);
-  const double travel_m = std::hypot(full.x - pose_.x, full.y - pose_.y) +
-                          std::abs(geometry::wrap_angle(full.theta - pose_.theta)) * half_diagonal_m;
+  const double travel_m =
+      std::hypot(full.x - pose_.x, full.y - pose_.y) +
+      std::abs(geometry::wrap_angle(full.theta - pose_.theta)) * half_diagonal_m;
   const int substeps = std::max(1, static_cast<int>(std::ceil(travel_m / kMaxSubstepTravel_m)));
   const WheelAngles slice{rotation.left_rad / substeps, rotation.right_rad / substeps};
   for (int i = 0; i < substeps; ++i) {
@@ -224,17 +225,21 @@ void Simulator::add_obstacles_to_fan(geometry::Point2D from, double first_angle_
       return;
     }
     // Only the beams within the obstacle's angular half-width can hit it. Its bearing is taken
-    // relative to the first beam, also one turn either way, so a full-circle scan's seam is covered.
+    // relative to the first beam, also one turn either way, so a full-circle scan's seam is
+    // covered.
     const double half_width_rad = std::asin(obstacle.radius_m / distance_m);
     const double bearing_rad =
         geometry::wrap_angle(std::atan2(dy_m, dx_m) - first_angle_rad) + std::numbers::pi;
     for (const double turn_rad : {-2.0 * std::numbers::pi, 0.0, 2.0 * std::numbers::pi}) {
       const double relative_rad = bearing_rad - std::numbers::pi + turn_rad;
-      const int first = std::max(0, static_cast<int>(std::ceil((relative_rad - half_width_rad) / increment_rad)));
-      const int last = std::min(beams - 1, static_cast<int>(std::floor((relative_rad + half_width_rad) / increment_rad)));
+      const int first =
+          std::max(0, static_cast<int>(std::ceil((relative_rad - half_width_rad) / increment_rad)));
+      const int last = std::min(
+          beams - 1, static_cast<int>(std::floor((relative_rad + half_width_rad) / increment_rad)));
       for (int i = first; i <= last; ++i) {
-        const std::optional<double> hit = cast_to_circle(
-            from, first_angle_rad + i * increment_rad, {obstacle.x_m, obstacle.y_m}, obstacle.radius_m);
+        const std::optional<double> hit =
+            cast_to_circle(from, first_angle_rad + i * increment_rad, {obstacle.x_m, obstacle.y_m},
+                           obstacle.radius_m);
         auto& range_m = ranges_m[static_cast<std::size_t>(i)];
         if (hit) range_m = std::min(range_m, *hit);
       }
@@ -281,8 +286,8 @@ msgs::SonarRing Simulator::read_sonar() {
     for (int k = 0; k < kSonarRaysPerCone; ++k) {
       const double offset_rad =
           -half_cone_rad + profile_.sonar_cone_rad * k / (kSonarRaysPerCone - 1);
-      const std::optional<double> hit =
-          nearest_in_plane({sonar.x, sonar.y}, sonar.theta + offset_rad, profile_.sonar_range_max_m);
+      const std::optional<double> hit = nearest_in_plane(
+          {sonar.x, sonar.y}, sonar.theta + offset_rad, profile_.sonar_range_max_m);
       if (hit && (!nearest || *hit < *nearest)) nearest = hit;
     }
     double range_m = profile_.sonar_range_max_m;
@@ -304,7 +309,8 @@ msgs::CompassReading Simulator::read_compass() {
 int Simulator::add_obstacle(double x_m, double y_m, double radius_m, double height_m) {
   if (!std::isfinite(x_m) || !std::isfinite(y_m) || !std::isfinite(radius_m) ||
       !std::isfinite(height_m) || radius_m <= 0.0 || height_m <= 0.0) {
-    throw std::invalid_argument("obstacle needs a finite position and a positive radius and height");
+    throw std::invalid_argument(
+        "obstacle needs a finite position and a positive radius and height");
   }
   obstacles_.push_back({next_obstacle_id_, x_m, y_m, radius_m, height_m});
   return next_obstacle_id_++;

@@ -21,7 +21,7 @@
 namespace mobot::sim {
 
 struct Collision {
-  std::string with;  // "wall", a box name, or "obstacle <id>"
+  std::string with;       // "wall", a box name, or "obstacle <id>"
   geometry::Pose2D pose;  // where the robot stopped
 };
 
@@ -115,7 +115,7 @@ class Simulator {
   double time_s_ = 0.0;
   msgs::Twist command_;
   WheelAngles wheel_angles_;
-  double left_speed_error_ = 0.0;   // fraction of the commanded wheel speed
+  double left_speed_error_ = 0.0;  // fraction of the commanded wheel speed
   double right_speed_error_ = 0.0;
   std::vector<Collision> collisions_;
   int collision_count_ = 0;

@@ -19,8 +19,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::array<std::string_view, 12> kTopLevelKeys = {
-    "name",   "description", "image",       "resolution", "origin", "negate",
-    "occupied_thresh", "free_thresh", "mode", "start", "boxes", "landmarks"};
+    "name",        "description", "image", "resolution", "origin",   "negate", "occupied_thresh",
+    "free_thresh", "mode",        "start", "boxes",      "landmarks"};
 constexpr std::array<std::string_view, 3> kBoxKeys = {"name", "min", "max"};
 constexpr std::array<std::string_view, 3> kLandmarkKeys = {"name", "x", "y"};
 
@@ -52,6 +52,7 @@ class WorldFileReader {
   void reject_unknown_keys(const YAML::Node& map, const std::array<std::string_view, N>& known,
                            const std::string& prefix) const {
     for (const auto& entry : map) {
+      if (!entry.first.IsScalar()) fail(prefix + "?", "keys must be plain strings");
       const std::string key = entry.first.as<std::string>();
       if (std::find(known.begin(), known.end(), key) == known.end()) {
         fail(prefix + key, "is not a known key");
@@ -59,16 +60,11 @@ class WorldFileReader {
     }
   }
 
-  static YAML::Node child(const YAML::Node& map, const std::string& key) {
-    // operator[] on a const node never inserts.
-    return map[key];
-  }
-
   double number(const YAML::Node& node, const std::string& key) const {
     if (!node.IsDefined() || node.IsNull()) fail(key, "is missing");
+    if (!node.IsScalar()) fail(key, "must be a number");
     double value = 0.0;
     try {
-      if (!node.IsScalar()) throw YAML::Exception(node.Mark(), "not a scalar");
       value = node.as<double>();
     } catch (const YAML::Exception&) {
       fail(key, "must be a number");
@@ -78,7 +74,7 @@ class WorldFileReader {
   }
 
   double number_or(const YAML::Node& map, const std::string& key, double fallback) const {
-    const YAML::Node node = child(map, key);
+    const YAML::Node node = map[key];  // const operator[] never inserts
     return node.IsDefined() ? number(node, key) : fallback;
   }
 
@@ -103,13 +99,13 @@ class WorldFileReader {
 
   std::string text_or(const YAML::Node& map, const std::string& key,
                       const std::string& fallback) const {
-    const YAML::Node node = child(map, key);
+    const YAML::Node node = map[key];  // const operator[] never inserts
     return node.IsDefined() ? text(node, key) : fallback;
   }
 
   // map_server writes negate as 0/1; accept YAML booleans too.
   bool flag_or(const YAML::Node& map, const std::string& key, bool fallback) const {
-    const YAML::Node node = child(map, key);
+    const YAML::Node node = map[key];  // const operator[] never inserts
     if (!node.IsDefined()) return fallback;
     if (!node.IsScalar()) fail(key, "must be 0, 1, true or false");
     const std::string value = node.as<std::string>();
@@ -137,8 +133,7 @@ std::vector<std::uint8_t> read_bytes(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-mapping::MapImageOptions read_image_options(const WorldFileReader& reader,
-                                            const YAML::Node& root) {
+mapping::MapImageOptions read_image_options(const WorldFileReader& reader, const YAML::Node& root) {
   mapping::MapImageOptions options;
   options.negate = reader.flag_or(root, "negate", false);
   options.occupied_thresh = reader.number_or(root, "occupied_thresh", options.occupied_thresh);
@@ -248,17 +243,17 @@ bool looks_like_path(const std::string& name_or_path) {
 std::filesystem::path resolve_world(const std::filesystem::path& worlds_dir,
                                     const std::string& name_or_path) {
   if (looks_like_path(name_or_path)) {
-    const fs::path path(name_or_path);
+    fs::path path(name_or_path);
     if (fs::is_regular_file(path)) return path;
     if (fs::is_directory(path) && fs::is_regular_file(path / "world.yaml")) {
       return path / "world.yaml";
     }
   } else if (!name_or_path.empty() && name_or_path != "." && name_or_path != "..") {
-    const fs::path candidate = worlds_dir / name_or_path / "world.yaml";
+    fs::path candidate = worlds_dir / name_or_path / "world.yaml";
     if (fs::is_regular_file(candidate)) return candidate;
   }
-  throw WorldError("unknown world '" + name_or_path +
-                   "': built-in worlds are " + joined_names(list_worlds(worlds_dir)));
+  throw WorldError("unknown world '" + name_or_path + "': built-in worlds are " +
+                   joined_names(list_worlds(worlds_dir)));
 }
 
 World load_world(const std::filesystem::path& world_yaml) {
@@ -269,8 +264,8 @@ World load_world(const std::filesystem::path& world_yaml) {
   world.name = reader.text_or(root, "name", world_yaml.parent_path().filename().string());
   world.description = reader.text_or(root, "description", "");
   world.floor = read_floor(reader, root);
-  world.start = root["start"].IsDefined() ? reader.pose(root["start"], "start")
-                                          : geometry::Pose2D{};
+  world.start =
+      root["start"].IsDefined() ? reader.pose(root["start"], "start") : geometry::Pose2D{};
   world.start.theta = geometry::wrap_angle(world.start.theta);
   check_start_on_map(reader, world);
   world.boxes = read_boxes(reader, root);

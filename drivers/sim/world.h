@@ -54,8 +54,19 @@ struct WorldSummary {
 std::filesystem::path resolve_world(const std::filesystem::path& worlds_dir,
                                     const std::string& name_or_path);
 
-// Reads a world YAML (ROS map_server keys plus start, boxes and landmarks) and its floor-plan
-// image. Throws WorldError naming the file and the key on any problem.
+// Reads a world YAML and its floor-plan image. Throws WorldError naming the file and the key on any
+// problem, including keys it does not know. The ROS map_server keys plus the simulator's own:
+//   name: office                      # default: the directory's name
+//   description: "..."                # optional
+//   image: office.pgm                 # PGM or PNG, relative to the YAML file
+//   resolution: 0.05                  # metres per pixel
+//   origin: [0.0, 0.0, 0.0]           # pose of the image's lower-left corner
+//   negate: 0                         # optional, with occupied_thresh (0.65) and free_thresh
+//   start: [2.0, 7.5, 0.0]            # optional robot start pose, default (0, 0, 0)
+//   boxes:                            # optional: x, y, z of two opposite corners, map frame
+//     - {name: table_1, min: [15.0, 11.0, 0.70], max: [16.6, 11.8, 0.75]}
+//   landmarks:                        # optional bearing landmarks
+//     - {name: lm_corridor_west, x: 0.5, y: 8.2}
 World load_world(const std::filesystem::path& world_yaml);
 
 // The worlds found as worlds_dir/NAME/world.yaml, sorted by name (the directory name, which is what

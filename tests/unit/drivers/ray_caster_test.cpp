@@ -40,9 +40,9 @@ TEST(RayCaster, HitsAWallAtTheComputedDistance) {
 
 TEST(RayCaster, NoReturnInOpenSpaceOrBeyondRange) {
   const RayCaster caster(grid_with_vertical_wall());
-  EXPECT_FALSE(caster.cast({1.0, 2.05}, kPi, 80.0).has_value());       // leaves the grid
-  EXPECT_FALSE(caster.cast({1.0, 2.05}, kPi / 2, 80.0).has_value());   // along the free strip
-  EXPECT_FALSE(caster.cast({1.0, 2.05}, 0.0, 3.99).has_value());       // wall beyond range
+  EXPECT_FALSE(caster.cast({1.0, 2.05}, kPi, 80.0).has_value());      // leaves the grid
+  EXPECT_FALSE(caster.cast({1.0, 2.05}, kPi / 2, 80.0).has_value());  // along the free strip
+  EXPECT_FALSE(caster.cast({1.0, 2.05}, 0.0, 3.99).has_value());      // wall beyond range
   EXPECT_TRUE(caster.cast({1.0, 2.05}, 0.0, 4.01).has_value());
   // Outside the grid, pointing away from it.
   EXPECT_FALSE(caster.cast({-3.0, 2.0}, kPi, 80.0).has_value());
@@ -184,7 +184,8 @@ TEST(RayCaster, FanEqualsOneCastPerBeam) {
       if (single) {
         ASSERT_NEAR(fan[i], *single, 1e-6) << "scan " << scan << " beam " << i;
       } else {
-        ASSERT_EQ(fan[i], std::numeric_limits<double>::infinity()) << "scan " << scan << " beam " << i;
+        ASSERT_EQ(fan[i], std::numeric_limits<double>::infinity())
+            << "scan " << scan << " beam " << i;
       }
     }
   }

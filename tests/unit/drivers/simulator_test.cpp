@@ -308,7 +308,8 @@ void expect_scan_matches_brute_force(RobotProfile profile, std::uint64_t seed) {
   const geometry::Pose2D laser = geometry::compose(sim.true_pose(), profile.laser_in_base);
   int blocked_by_obstacles = 0;
   for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
-    const double angle = laser.theta - profile.laser_fov_rad / 2 + static_cast<double>(i) * profile.laser_step_rad;
+    const double angle =
+        laser.theta - profile.laser_fov_rad / 2 + static_cast<double>(i) * profile.laser_step_rad;
     double expected = walls.cast({laser.x, laser.y}, angle, profile.laser_range_max_m)
                           .value_or(profile.laser_range_max_m + 1.0);
     for (const Obstacle& obstacle : sim.obstacles()) {
@@ -325,11 +326,13 @@ void expect_scan_matches_brute_force(RobotProfile profile, std::uint64_t seed) {
 }
 
 TEST(Simulator, LaserSeesObstaclesOnExactlyTheBeamsThatMeetThem) {
-  for (std::uint64_t seed = 1; seed <= 5; ++seed) expect_scan_matches_brute_force(ideal_profile(), seed);
+  for (std::uint64_t seed = 1; seed <= 5; ++seed)
+    expect_scan_matches_brute_force(ideal_profile(), seed);
   RobotProfile full_circle = ideal_profile();
   full_circle.laser_fov_rad = 2 * kPi;
   full_circle.laser_step_rad = kPi / 180;
-  for (std::uint64_t seed = 1; seed <= 5; ++seed) expect_scan_matches_brute_force(full_circle, seed);
+  for (std::uint64_t seed = 1; seed <= 5; ++seed)
+    expect_scan_matches_brute_force(full_circle, seed);
 }
 
 TEST(Simulator, AnObstacleDroppedOnTheRobotDoesNotTrapIt) {

@@ -16,8 +16,8 @@
 namespace mobot::sim {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::builtin_worlds_dir;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 constexpr std::uint8_t kFreePixel = 254;
@@ -101,8 +101,10 @@ double reachable_share(const World& world, double clearance_m) {
     const mapping::CellIndex cell = queue.front();
     queue.pop_front();
     ++reached;
-    for (const auto& next : {mapping::CellIndex{cell.x + 1, cell.y}, {cell.x - 1, cell.y},
-                             {cell.x, cell.y + 1}, {cell.x, cell.y - 1}}) {
+    for (const auto& next : {mapping::CellIndex{cell.x + 1, cell.y},
+                             {cell.x - 1, cell.y},
+                             {cell.x, cell.y + 1},
+                             {cell.x, cell.y - 1}}) {
       if (roomy(next) && !seen[index(next)]) {
         seen[index(next)] = true;
         queue.push_back(next);
@@ -205,7 +207,8 @@ std::filesystem::path write_small_world(const TempDir& dir, const std::string& e
                 {kWallPixel, kFreePixel, kFreePixel, kFreePixel, kFreePixel, kWallPixel});
   return dir.write("world.yaml",
                    "name: small\nimage: floor.pgm\nresolution: 0.5\norigin: [1.0, 2.0, 0]\n"
-                   "start: [1.75, 2.25, 0]\n" + extra);
+                   "start: [1.75, 2.25, 0]\n" +
+                       extra);
 }
 
 TEST(World, ImageRowZeroIsTheTopOfTheMap) {
@@ -224,8 +227,8 @@ TEST(World, ImageRowZeroIsTheTopOfTheMap) {
 
 std::vector<std::uint8_t> load_single_row(const TempDir& dir, const std::string& options) {
   dir.write_pgm("row.pgm", 4, 1, {0, 100, 200, 254});
-  const auto yaml = dir.write("world.yaml",
-                              "image: row.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n" + options);
+  const auto yaml =
+      dir.write("world.yaml", "image: row.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n" + options);
   return load_world(yaml).floor.cells();
 }
 
@@ -250,12 +253,12 @@ TEST(World, ReadsPngBoxesAndLandmarks) {
   cv::Mat image(2, 2, CV_8UC3, cv::Scalar(254, 254, 254));
   image.at<cv::Vec3b>(0, 1) = cv::Vec3b(0, 0, 0);
   ASSERT_TRUE(cv::imwrite((dir.path() / "floor.png").string(), image));
-  const auto yaml = dir.write(
-      "w.yaml",
-      "name: pngworld\ndescription: two by two\nimage: floor.png\nresolution: 1\n"
-      "origin: [0, 0, 0]\nstart: [0.5, 0.5, 3.0]\n"
-      "boxes:\n  - {name: beam, min: [0.1, 0.2, 0.8], max: [1.5, 0.4, 1.0]}\n"
-      "landmarks:\n  - {name: red, x: 1.5, y: 0.25}\n");
+  const auto yaml =
+      dir.write("w.yaml",
+                "name: pngworld\ndescription: two by two\nimage: floor.png\nresolution: 1\n"
+                "origin: [0, 0, 0]\nstart: [0.5, 0.5, 3.0]\n"
+                "boxes:\n  - {name: beam, min: [0.1, 0.2, 0.8], max: [1.5, 0.4, 1.0]}\n"
+                "landmarks:\n  - {name: red, x: 1.5, y: 0.25}\n");
   const World world = load_world(yaml);
   EXPECT_EQ(world.name, "pngworld");
   EXPECT_EQ(world.description, "two by two");
@@ -288,20 +291,23 @@ TEST(World, ErrorsNameTheFileAndTheKey) {
   expect_world_error(dir.path() / "missing.yaml", {"missing.yaml", "does not exist"});
   expect_world_error(dir.write("broken.yaml", "name: [unclosed\n"), {"broken.yaml", "YAML"});
   expect_world_error(dir.write("list.yaml", "- 1\n- 2\n"), {"list.yaml", "mapping"});
-  expect_world_error(dir.write("noimage.yaml", "image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"),
-                     {"noimage.yaml", "'image'", "gone.pgm"});
+  expect_world_error(
+      dir.write("noimage.yaml", "image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"),
+      {"noimage.yaml", "'image'", "gone.pgm"});
   dir.write("garbage.pgm", "this is not an image");
   expect_world_error(
       dir.write("garbage.yaml", "image: garbage.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"),
       {"garbage.yaml", "'image'", "garbage.pgm"});
 
-  expect_world_error(write_small_world(dir, "ressolution: 0.05\n"), {"world.yaml", "'ressolution'"});
+  expect_world_error(write_small_world(dir, "ressolution: 0.05\n"),
+                     {"world.yaml", "'ressolution'"});
   expect_world_error(write_small_world(dir, "free_thresh: 0.9\n"), {"'free_thresh'"});
   expect_world_error(write_small_world(dir, "occupied_thresh: high\n"), {"'occupied_thresh'"});
   expect_world_error(write_small_world(dir, "negate: maybe\n"), {"'negate'"});
   expect_world_error(write_small_world(dir, "mode: scale\n"), {"'mode'"});
-  expect_world_error(write_small_world(dir, "boxes:\n  - {name: b, min: [0, 0, 1], max: [1, 1, 1]}\n"),
-                     {"'boxes[0]'", "min < max"});
+  expect_world_error(
+      write_small_world(dir, "boxes:\n  - {name: b, min: [0, 0, 1], max: [1, 1, 1]}\n"),
+      {"'boxes[0]'", "min < max"});
   expect_world_error(write_small_world(dir, "boxes:\n  - {name: b, min: [0, 0], max: [1, 1, 1]}\n"),
                      {"'boxes[0].min'"});
   expect_world_error(write_small_world(dir, "boxes:\n  - {min: [0, 0, 0], max: [1, 1, 1]}\n"),
@@ -318,7 +324,8 @@ TEST(World, ErrorsNameTheFileAndTheKey) {
 
   dir.write_pgm("floor.pgm", 1, 1, {kFreePixel});
   const std::string head = "image: floor.pgm\n";
-  expect_world_error(dir.write("w.yaml", head + "origin: [0, 0, 0]\n"), {"'resolution'", "missing"});
+  expect_world_error(dir.write("w.yaml", head + "origin: [0, 0, 0]\n"),
+                     {"'resolution'", "missing"});
   expect_world_error(dir.write("w.yaml", head + "resolution: -0.05\norigin: [0, 0, 0]\n"),
                      {"'resolution'", "positive"});
   expect_world_error(dir.write("w.yaml", head + "resolution: fine\norigin: [0, 0, 0]\n"),
@@ -327,8 +334,9 @@ TEST(World, ErrorsNameTheFileAndTheKey) {
                      {"'resolution'", "finite"});
   expect_world_error(dir.write("w.yaml", head + "resolution: 1\n"), {"'origin'", "missing"});
   expect_world_error(dir.write("w.yaml", head + "resolution: 1\norigin: [0, 0]\n"), {"'origin'"});
-  expect_world_error(dir.write("w.yaml", head + "resolution: 1\norigin: [0, 0, 0]\nstart: [5, 5, 0]\n"),
-                     {"'start'", "outside"});
+  expect_world_error(
+      dir.write("w.yaml", head + "resolution: 1\norigin: [0, 0, 0]\nstart: [5, 5, 0]\n"),
+      {"'start'", "outside"});
 }
 
 }  // namespace
