@@ -122,6 +122,8 @@ Response RestApi::route(const Request& request, const Segments& path) {
   if (resource == "runs") return route_runs(request, path);
   if (resource == "sim" || resource == "worlds") return route_sim(request, path);
   if (resource == "tokens") return route_tokens(request, path);
+  if (resource == "goals") return route_goals(request, path);
+  if (resource == "localization") return route_localization(request, path);
   if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
   if (resource == "robot") {
     if (method != http::verb::get) method_not_allowed();

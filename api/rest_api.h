@@ -44,6 +44,8 @@ class RestApi {
   Response route_runs(const Request& request, const Segments& path);
   Response route_sim(const Request& request, const Segments& path);
   Response route_tokens(const Request& request, const Segments& path);
+  Response route_goals(const Request& request, const Segments& path);
+  Response route_localization(const Request& request, const Segments& path);
   Response serve_static(const Request& request, std::string_view path) const;
   Role require_role(const Request& request, Role needed) const;
 

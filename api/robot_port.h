@@ -12,6 +12,7 @@
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/msgs/twist.h"
+#include "core/navigation/goal.h"
 
 namespace mobot::api {
 
@@ -95,6 +96,13 @@ struct SimResetRequest {
   std::optional<std::uint64_t> seed;
 };
 
+struct GoalRequest {
+  geometry::Pose2D target;
+  bool has_heading = false;
+  std::string planner = "astar";
+  std::string controller = "lyapunov";
+};
+
 class RobotPort {
  public:
   virtual ~RobotPort() = default;
@@ -108,6 +116,16 @@ class RobotPort {
   // Returns the command as clamped to the robot's limits. 409 estop_engaged under e-stop.
   virtual msgs::Twist teleop(const msgs::Twist& command, int ttl_ms) = 0;
   virtual bool set_estop(bool engaged) = 0;
+
+  // Plans and starts a goal (preempting the active one). ApiError 409 estop_engaged, 422
+  // goal_outside_map / goal_in_obstacle / no_path / unsupported_planner / unsupported_controller.
+  virtual navigation::Goal submit_goal(const GoalRequest& request) = 0;
+  virtual std::vector<navigation::Goal> list_goals() const = 0;
+  virtual std::optional<navigation::Goal> find_goal(std::int64_t id) const = 0;
+  virtual navigation::Goal cancel_goal(std::int64_t id) = 0;  // 404 unknown_goal
+  // Re-initialises localization at `pose` with a covariance (row-major 3x3).
+  virtual void set_localization_pose(const geometry::Pose2D& pose,
+                                     const std::array<double, 9>& covariance) = 0;
 
   virtual std::vector<MapInfo> list_maps() const = 0;
   virtual std::optional<MapInfo> map_info(std::int64_t id) const = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "api/goal_json.h"
 #include "api/stream_session.h"
 #include "api/websocket_frames.h"
 
@@ -143,6 +144,22 @@ void StreamHub::publish_event(double t_s, const std::string& kind, const nlohman
     return;
   }
   publish_json(TopicId::kEvents, t_s, {{"t", t_s}, {"kind", kind}, {"detail", detail}});
+}
+
+void StreamHub::publish_goal(double t_s, const navigation::Goal& goal) {
+  if (!wanted(TopicId::kGoal)) {
+    next_stamp(TopicId::kGoal, t_s);
+    return;
+  }
+  publish_json(TopicId::kGoal, t_s, goal_json(goal));
+}
+
+void StreamHub::publish_path(double t_s, const navigation::Goal& goal) {
+  if (!wanted(TopicId::kPath)) {
+    next_stamp(TopicId::kPath, t_s);
+    return;
+  }
+  publish_json(TopicId::kPath, t_s, {{"goal_id", goal.id}, {"points", path_json(goal.path)}});
 }
 
 void StreamHub::publish_truth(const SimTruth& truth) {

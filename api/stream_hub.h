@@ -17,6 +17,7 @@
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
 #include "core/msgs/sonar_ring.h"
+#include "core/navigation/goal.h"
 
 namespace mobot::api {
 
@@ -55,6 +56,9 @@ class StreamHub {
   void publish_status(const RobotSnapshot& snapshot);
   void publish_event(double t_s, const std::string& kind, const nlohmann::json& detail);
   void publish_truth(const SimTruth& truth);
+  // The goal's status (on every change) and the path it follows (when planned or replanned).
+  void publish_goal(double t_s, const navigation::Goal& goal);
+  void publish_path(double t_s, const navigation::Goal& goal);
   // Wakes every session that received frames since the last flush.
   void flush();
 

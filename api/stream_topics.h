@@ -8,8 +8,19 @@
 namespace mobot::api {
 
 // Every topic the stream offers. Bulk topics also have a binary encoding (README: binary frames).
-enum class TopicId : std::uint8_t { kPose, kOdom, kScan, kSonar, kMap, kStatus, kEvents, kTruth };
-inline constexpr std::size_t kTopicCount = 8;
+enum class TopicId : std::uint8_t {
+  kPose,
+  kOdom,
+  kScan,
+  kSonar,
+  kMap,
+  kStatus,
+  kEvents,
+  kTruth,
+  kPath,
+  kGoal
+};
+inline constexpr std::size_t kTopicCount = 10;
 
 struct TopicSpec {
   TopicId id;
@@ -27,6 +38,8 @@ inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
     {TopicId::kStatus, "status", 0, false},
     {TopicId::kEvents, "events", 0, false},
     {TopicId::kTruth, "truth", 0, true},
+    {TopicId::kPath, "path", 0, false},
+    {TopicId::kGoal, "goal", 0, false},
 }};
 
 inline constexpr const TopicSpec& topic_spec(TopicId id) {

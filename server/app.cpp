@@ -128,6 +128,7 @@ void App::publish_active_map() {
   if (!id) return;
   auto grid = maps_.grid(*id);
   if (!grid) return;
+  if (robot_) robot_->set_map(*grid);
   hub_.publish_map(robot_ ? robot_->snapshot().t_s : 0.0,
                    std::make_shared<const mapping::OccupancyGrid>(std::move(*grid)), *id);
   hub_.flush();
@@ -206,6 +207,29 @@ bool App::set_estop(bool engaged) {
   // acknowledged e-stop is in the run even if the server is killed right after.
   recorder_->flush();
   return estop;
+}
+
+navigation::Goal App::submit_goal(const api::GoalRequest& request) {
+  navigation::Goal goal = robot_->submit_goal(request);
+  // The goal events (a preempted goal, this one starting) are in the run before the reply.
+  recorder_->flush();
+  return goal;
+}
+
+navigation::Goal App::cancel_goal(std::int64_t id) {
+  navigation::Goal goal = robot_->cancel_goal(id);
+  recorder_->flush();
+  return goal;
+}
+
+void App::set_localization_pose(const geometry::Pose2D& pose,
+                                const std::array<double, 9>& covariance) {
+  Eigen::Matrix3d cov;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) cov(r, c) = covariance[static_cast<std::size_t>(r * 3 + c)];
+  }
+  robot_->set_localization_pose(pose, cov);
+  recorder_->flush();
 }
 
 std::vector<api::MapInfo> App::list_maps() const {

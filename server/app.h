@@ -42,6 +42,14 @@ class App final : public api::RobotPort {
   api::RobotSnapshot snapshot() const override { return robot_->snapshot(); }
   msgs::Twist teleop(const msgs::Twist& command, int ttl_ms) override;
   bool set_estop(bool engaged) override;
+  navigation::Goal submit_goal(const api::GoalRequest& request) override;
+  std::vector<navigation::Goal> list_goals() const override { return robot_->goals(); }
+  std::optional<navigation::Goal> find_goal(std::int64_t id) const override {
+    return robot_->goal(id);
+  }
+  navigation::Goal cancel_goal(std::int64_t id) override;
+  void set_localization_pose(const geometry::Pose2D& pose,
+                             const std::array<double, 9>& covariance) override;
 
   std::vector<api::MapInfo> list_maps() const override;
   std::optional<api::MapInfo> map_info(std::int64_t id) const override;

@@ -70,6 +70,28 @@ class Reader {
   YAML::Node root_;
 };
 
+void read_localization(const Reader& reader, LocalizationSection& localization) {
+  reader.read("localization", "method", localization.method);
+  const YAML::Node fuse = reader.lookup("localization", "fuse");
+  if (!fuse) return;
+  if (!fuse.IsSequence()) {
+    throw ConfigError("localization.fuse: expected a list of compass, lines, bearing");
+  }
+  localization.fuse_compass = localization.fuse_lines = localization.fuse_bearing = false;
+  for (const auto& item : fuse) {
+    const auto name = item.as<std::string>();
+    if (name == "compass") {
+      localization.fuse_compass = true;
+    } else if (name == "lines") {
+      localization.fuse_lines = true;
+    } else if (name == "bearing") {
+      localization.fuse_bearing = true;
+    } else {
+      throw ConfigError("localization.fuse: '" + name + "' is not one of compass, lines, bearing");
+    }
+  }
+}
+
 void read_mux(const Reader& reader, RobotSection& robot) {
   const YAML::Node sources = reader.lookup(nullptr, "mux");
   if (!sources) return;
@@ -101,6 +123,10 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2"}},
       {"sim", {"world", "worlds_dir", "seed", "time_scale"}},
+      {"localization", {"method", "fuse"}},
+      {"navigation",
+       {"goal_tolerance_m", "goal_tolerance_rad", "max_linear_mps", "inscribed_radius_m",
+        "avoidance_distance_m"}},
       {"recorder", {"trajectory_rate_hz", "flush_period_ms"}},
       {"stream", {"max_frames_per_topic"}},
   };
@@ -173,6 +199,15 @@ Config load_config(const std::filesystem::path& file) {
   reader.read("sim", "seed", config.sim.seed);
   reader.read_number("sim", "time_scale", config.sim.time_scale, 0.1, 100.0);
 
+  read_localization(reader, config.localization);
+  NavigationSection& navigation = config.navigation;
+  reader.read_number("navigation", "goal_tolerance_m", navigation.goal_tolerance_m, 0.01, 1.0);
+  reader.read_number("navigation", "goal_tolerance_rad", navigation.goal_tolerance_rad, 0.01, 1.0);
+  reader.read_number("navigation", "max_linear_mps", navigation.max_linear_mps, 0.05, 10.0);
+  reader.read_number("navigation", "inscribed_radius_m", navigation.inscribed_radius_m, 0.05, 2.0);
+  reader.read_number("navigation", "avoidance_distance_m", navigation.avoidance_distance_m, 0.1,
+                     4.0);
+
   reader.read_number("recorder", "trajectory_rate_hz", config.recorder.trajectory_rate_hz, 10.0,
                      100.0);
   reader.read_int("recorder", "flush_period_ms", config.recorder.flush_period_ms, 10, 5000);
@@ -192,6 +227,12 @@ void validate_config(const Config& config) {
   check_range("sim.time_scale", config.sim.time_scale, 0.1, 100.0);
   check_range("robot.laser_rate_hz", config.robot.laser_rate_hz, 1.0,
               config.robot.control_rate_hz);
+  if (config.localization.method != "ekf" && config.localization.method != "odometry") {
+    throw ConfigError("localization.method: '" + config.localization.method +
+                      "' is not one of ekf, odometry");
+  }
+  check_range("navigation.max_linear_mps", config.navigation.max_linear_mps, 0.05,
+              config.robot.limits.max_linear_mps);
   bool has_teleop = false;
   bool has_safety = false;
   for (const auto& source : config.robot.mux_sources) {

@@ -39,6 +39,22 @@ struct SimSection {
   double time_scale = 1.0;
 };
 
+struct LocalizationSection {
+  std::string method = "ekf";  // ekf | odometry
+  // The EKF measurement sets of ALGORITHMS.md E2; each can be switched off to see its effect.
+  bool fuse_compass = true;
+  bool fuse_lines = true;
+  bool fuse_bearing = true;
+};
+
+struct NavigationSection {
+  double goal_tolerance_m = 0.05;
+  double goal_tolerance_rad = 0.05;
+  double max_linear_mps = 0.6;  // cruise cap while following a path (<= limits.max_linear_mps)
+  double inscribed_radius_m = 0.3;  // R1's 0.6 x 0.6 m footprint
+  double avoidance_distance_m = 0.7;  // C4's d0
+};
+
 struct RecorderSection {
   double trajectory_rate_hz = 20.0;
   int flush_period_ms = 200;
@@ -55,6 +71,8 @@ struct Config {
   ServerSection server;
   RobotSection robot;
   SimSection sim;
+  LocalizationSection localization;
+  NavigationSection navigation;
   RecorderSection recorder;
   StreamSection stream;
 };

@@ -4,7 +4,7 @@
 
 #include "api/api_error.h"
 #include "core/control/velocity_limits.h"
-#include "core/estimation/odometry_covariance.h"
+#include "core/perception/map_line_extractor.h"
 
 namespace mobot::server {
 namespace {
@@ -24,6 +24,26 @@ std::array<double, 9> to_array(const Eigen::Matrix3d& m) {
   return out;
 }
 
+std::string plan_error_message(planning::PlanError error) {
+  switch (error) {
+    case planning::PlanError::kGoalOutsideMap:
+      return "the goal lies outside the active map";
+    case planning::PlanError::kGoalInObstacle:
+      return "the robot does not fit at the goal: it is in or too close to an obstacle";
+    case planning::PlanError::kNoPath:
+      return "no collision-free path leads from the robot to the goal";
+    case planning::PlanError::kStartInObstacle:
+      return "the robot is inside an obstacle and cannot get out";
+    case planning::PlanError::kStartOutsideMap:
+      return "the robot is outside the active map";
+    case planning::PlanError::kInvalidPose:
+      return "the goal is not a finite pose";
+    case planning::PlanError::kNoMap:
+      return "no map is active";
+  }
+  return "planning failed";
+}
+
 }  // namespace
 
 Robot::Robot(const Config& config, sim::World world, api::StreamHub& hub, Recorder& recorder)
@@ -32,7 +52,8 @@ Robot::Robot(const Config& config, sim::World world, api::StreamHub& hub, Record
       recorder_(recorder),
       period_s_(1.0 / config.robot.control_rate_hz),
       seed_(config.sim.seed),
-      odometry_(nominal_odometry(sim::r1_profile())),
+      localization_(config.localization, nominal_odometry(sim::r1_profile()), world.start),
+      navigation_(config),
       mux_(config.robot.mux_sources),
       smoother_(config.robot.limits),
       laser_schedule_(1.0 / config.robot.laser_rate_hz),
@@ -51,9 +72,8 @@ Robot::Robot(const Config& config, sim::World world, api::StreamHub& hub, Record
 }
 
 void Robot::start_estimation(const geometry::Pose2D& pose) {
-  odometry_ = estimation::WheelOdometry(nominal_odometry(sim_->profile()), pose);
-  pose_ = pose;
-  covariance_ = Eigen::Matrix3d::Zero();
+  // The simulator starts the robot exactly here; a real robot would get a rough pose instead.
+  localization_.reset(pose, Eigen::Matrix3d::Zero());
 }
 
 void Robot::tick() {
@@ -63,6 +83,7 @@ void Robot::tick() {
   ++ticks_;
   read_sensors();
   check_faults();
+  navigate();
   drive();
   publish();
   hub_.flush();
@@ -72,35 +93,34 @@ void Robot::read_sensors() {
   const double t_s = now_s_;
   msgs::WheelEncoders encoders = sim_->read_encoders();
   encoders.stamp_s = t_s;
-  update_odometry(encoders);
+  localization_.on_encoders(encoders);
   watchdog_.seen("encoders", t_s);
   if (laser_schedule_.due(t_s)) {
     new_scan_ = sim_->read_laser();
     new_scan_->stamp_s = t_s;
+    localization_.on_scan(*new_scan_);
+    navigation_.observe_scan(*new_scan_,
+                             geometry::compose(localization_.pose(), new_scan_->sensor_in_base));
     watchdog_.seen("laser", t_s);
     laser_schedule_.taken(t_s);
   }
   if (sonar_schedule_.due(t_s)) {
     new_sonar_ = sim_->read_sonar();
     new_sonar_->stamp_s = t_s;
+    navigation_.observe_sonar(*new_sonar_, localization_.pose());
     watchdog_.seen("sonar", t_s);
     sonar_schedule_.taken(t_s);
   }
   if (compass_schedule_.due(t_s)) {
     compass_ = sim_->read_compass();
     compass_->stamp_s = t_s;
+    localization_.on_compass(*compass_);
+    msgs::LandmarkBearings bearings = sim_->read_landmark_bearings();
+    bearings.stamp_s = t_s;
+    localization_.on_bearings(bearings);
     watchdog_.seen("compass", t_s);
     compass_schedule_.taken(t_s);
   }
-}
-
-void Robot::update_odometry(const msgs::WheelEncoders& encoders) {
-  const geometry::Pose2D before = odometry_.odometry().pose;
-  const msgs::Odometry& odom = odometry_.update(encoders);
-  const estimation::WheelTravel& travel = odometry_.last_travel();
-  covariance_ = estimation::propagate_odometry_covariance(
-      covariance_, before, travel.left_m, travel.right_m, odometry_.params().track_m, {});
-  pose_ = odom.pose;
 }
 
 void Robot::check_faults() {
@@ -109,6 +129,7 @@ void Robot::check_faults() {
     ++collisions_;
     // The base stops and stays stopped until somebody commands it again.
     drop_commands();
+    navigation_.end_active(navigation::GoalStatus::kFailed, "collision", t_s);
     record_event("collision", {{"with", collision.with},
                                {"x", collision.pose.x},
                                {"y", collision.pose.y}});
@@ -118,11 +139,40 @@ void Robot::check_faults() {
     for (const auto& name : stale) {
       if (std::find(stale_sensors_.begin(), stale_sensors_.end(), name) == stale_sensors_.end()) {
         record_event("fault", {{"sensor", name}, {"reason", "stale"}});
+        navigation_.end_active(navigation::GoalStatus::kFailed, "sensor_fault", t_s);
       }
     }
     stale_sensors_ = std::move(stale);
   }
   if (!stale_sensors_.empty()) mux_.submit("safety", {}, t_s);
+}
+
+void Robot::navigate() {
+  const double t_s = now_s_;
+  const auto command =
+      navigation_.tick(t_s, localization_.pose(), localization_.odometry().twist);
+  if (command) {
+    mux_.submit("navigation", *command, t_s);
+  } else if (navigation_was_active_) {
+    // The goal ended: the last navigation command must not live on until its mux time-out.
+    mux_.clear("navigation");
+  }
+  navigation_was_active_ = command.has_value();
+  publish_goal_changes();
+}
+
+void Robot::publish_goal_changes() {
+  for (const auto& goal : navigation_.take_changes()) {
+    hub_.publish_goal(now_s_, goal);
+    if (goal.status == navigation::GoalStatus::kActive) hub_.publish_path(now_s_, goal);
+    nlohmann::json detail{{"id", goal.id},
+                          {"status", navigation::to_string(goal.status)},
+                          {"x", goal.target.x},
+                          {"y", goal.target.y}};
+    if (!goal.reason.empty()) detail["reason"] = goal.reason;
+    if (goal.replans > 0) detail["replans"] = goal.replans;
+    record_event("goal", detail);
+  }
 }
 
 void Robot::drive() {
@@ -145,15 +195,16 @@ void Robot::drive() {
 
 void Robot::publish() {
   const double t_s = now_s_;
-  const msgs::Odometry& odom = odometry_.odometry();
-  hub_.publish_pose(t_s, pose_, odom.twist, to_array(covariance_));
+  const msgs::Odometry& odom = localization_.odometry();
+  const geometry::Pose2D& pose = localization_.pose();
+  hub_.publish_pose(t_s, pose, odom.twist, to_array(localization_.covariance()));
   hub_.publish_odom(odom);
   if (new_scan_) {
-    hub_.publish_scan(*new_scan_, geometry::compose(pose_, new_scan_->sensor_in_base));
+    hub_.publish_scan(*new_scan_, geometry::compose(pose, new_scan_->sensor_in_base));
     new_scan_.reset();
   }
   if (new_sonar_) {
-    hub_.publish_sonar(*new_sonar_, pose_);
+    hub_.publish_sonar(*new_sonar_, pose);
     new_sonar_.reset();
   }
   hub_.publish_truth({t_s, sim_->true_pose(), sim_->collision_count()});
@@ -162,8 +213,8 @@ void Robot::publish() {
     status_schedule_.taken(t_s);
   }
   if (sample_schedule_.due(t_s)) {
-    recorder_.record_pose(t_s, pose_.x, pose_.y, pose_.theta);
-    recorder_.set_distance(distance_before_reset_m_ + odometry_.travelled_m());
+    recorder_.record_pose(t_s, pose.x, pose.y, pose.theta);
+    recorder_.set_distance(distance_before_reset_m_ + localization_.travelled_m());
     sample_schedule_.taken(t_s);
   }
 }
@@ -177,10 +228,70 @@ void Robot::record_event(const std::string& kind, const nlohmann::json& detail) 
 msgs::Twist Robot::teleop(const msgs::Twist& command, int ttl_ms) {
   std::lock_guard lock(mutex_);
   if (estop_) throw api::ApiError(409, "estop_engaged", "e-stop is engaged: release it first");
+  navigation_.end_active(navigation::GoalStatus::kCanceled, "teleop_override", now_s_);
+  publish_goal_changes();
   const msgs::Twist clamped = control::clamp_to_limits(command, config_.robot.limits);
   mux_.submit("teleop", clamped, now_s_, ttl_ms / 1000.0);
   last_teleop_ = clamped;
   return clamped;
+}
+
+navigation::Goal Robot::submit_goal(const GoalRequest& request) {
+  std::future<PlanningWorker::Outcome> planned;
+  {
+    std::lock_guard lock(mutex_);
+    if (estop_) throw api::ApiError(409, "estop_engaged", "e-stop is engaged: release it first");
+    planned = navigation_.plan(localization_.pose(), request);
+  }
+  // Planning takes milliseconds to tens of them: never under the mutex the control tick needs.
+  const PlanningWorker::Outcome outcome = planned.get();
+  if (outcome.error) {
+    const std::string code(planning::error_code(*outcome.error));
+    const int status = *outcome.error == planning::PlanError::kInvalidPose ? 400
+                       : *outcome.error == planning::PlanError::kNoMap    ? 409
+                                                                          : 422;
+    throw api::ApiError(status, code, plan_error_message(*outcome.error));
+  }
+  std::lock_guard lock(mutex_);
+  if (estop_) throw api::ApiError(409, "estop_engaged", "e-stop is engaged: release it first");
+  const navigation::Goal goal = navigation_.start(request, outcome.path, now_s_);
+  publish_goal_changes();
+  return goal;
+}
+
+std::vector<navigation::Goal> Robot::goals() const {
+  std::lock_guard lock(mutex_);
+  return navigation_.list();
+}
+
+std::optional<navigation::Goal> Robot::goal(std::int64_t id) const {
+  std::lock_guard lock(mutex_);
+  return navigation_.find(id);
+}
+
+navigation::Goal Robot::cancel_goal(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  if (!navigation_.cancel(id, now_s_)) {
+    throw api::ApiError(404, "unknown_goal", "no goal with this id");
+  }
+  publish_goal_changes();
+  return *navigation_.find(id);
+}
+
+void Robot::set_localization_pose(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance) {
+  std::lock_guard lock(mutex_);
+  localization_.set_pose(pose, covariance);
+  record_event("localization", {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}});
+}
+
+void Robot::set_map(const mapping::OccupancyGrid& map) {
+  // Inflating and extracting lines takes a while on a big map: outside the mutex.
+  navigation_.set_map(map);
+  std::vector<perception::LineSegment> lines = perception::extract_map_lines(map);
+  std::lock_guard lock(mutex_);
+  localization_.set_map_lines(std::move(lines));
+  navigation_.end_active(navigation::GoalStatus::kCanceled, "map_changed", now_s_);
+  publish_goal_changes();
 }
 
 bool Robot::set_estop(bool engaged) {
@@ -190,6 +301,8 @@ bool Robot::set_estop(bool engaged) {
     if (engaged) {
       drop_commands();
       sim_->set_command({});
+      navigation_.end_active(navigation::GoalStatus::kCanceled, "estop", now_s_);
+      publish_goal_changes();
     }
     record_event("estop", {{"engaged", engaged}});
     hub_.flush();
@@ -200,6 +313,7 @@ bool Robot::set_estop(bool engaged) {
 std::string Robot::mode() const {
   if (estop_) return "estop";
   if (mux_.is_active("teleop", now_s_)) return "teleop";
+  if (navigation_.active()) return "navigating";
   return "idle";
 }
 
@@ -212,10 +326,10 @@ api::RobotSnapshot Robot::snapshot_locked() const {
   api::RobotSnapshot snapshot;
   snapshot.t_s = now_s_;
   snapshot.mode = mode();
-  snapshot.pose = pose_;
-  snapshot.velocity = odometry_.odometry().twist;
-  snapshot.localization_method = "odometry";
-  snapshot.covariance = to_array(covariance_);
+  snapshot.pose = localization_.pose();
+  snapshot.velocity = localization_.odometry().twist;
+  snapshot.localization_method = localization_.method();
+  snapshot.covariance = to_array(localization_.covariance());
   snapshot.kinematics = config_.robot.kinematics;
   snapshot.estop = estop_;
   for (const auto& sensor : watchdog_.status(snapshot.t_s)) {
@@ -233,7 +347,9 @@ void Robot::reset(std::optional<sim::World> world, std::optional<geometry::Pose2
                   std::optional<std::uint64_t> seed) {
   std::lock_guard lock(mutex_);
   if (seed) seed_ = *seed;
-  distance_before_reset_m_ += odometry_.travelled_m();
+  distance_before_reset_m_ += localization_.travelled_m();
+  navigation_.end_active(navigation::GoalStatus::kCanceled, "reset", now_s_);
+  publish_goal_changes();
   if (world) {
     const geometry::Pose2D start = pose.value_or(world->start);
     sim_ = std::make_unique<sim::Simulator>(std::move(*world), sim::r1_profile(), seed_);
@@ -286,7 +402,7 @@ std::string Robot::world_name() const {
 
 double Robot::distance_m() const {
   std::lock_guard lock(mutex_);
-  return distance_before_reset_m_ + odometry_.travelled_m();
+  return distance_before_reset_m_ + localization_.travelled_m();
 }
 
 std::string Robot::metrics_text() const {
@@ -299,6 +415,7 @@ std::string Robot::metrics_text() const {
   out += "mobot_collisions_total " + std::to_string(collisions_) + "\n";
   out += "# HELP mobot_estop E-stop engaged (1) or not (0).\n# TYPE mobot_estop gauge\n";
   out += "mobot_estop " + std::to_string(estop_ ? 1 : 0) + "\n";
+  out += localization_.metrics_text();
   out += "# HELP mobot_sensor_rate_hz Measured sensor rate.\n# TYPE mobot_sensor_rate_hz gauge\n";
   for (const auto& sensor : watchdog_.status(now_s_)) {
     out += "mobot_sensor_rate_hz{sensor=\"" + sensor.name + "\"} " +

@@ -11,11 +11,13 @@
 #include "api/stream_hub.h"
 #include "core/control/command_mux.h"
 #include "core/control/velocity_smoother.h"
-#include "core/estimation/wheel_odometry.h"
+#include "core/navigation/goal.h"
 #include "core/safety/sensor_watchdog.h"
 #include "drivers/sim/simulator.h"
 #include "drivers/sim/world.h"
 #include "server/config.h"
+#include "server/localization.h"
+#include "server/navigation.h"
 #include "server/rate_schedule.h"
 #include "server/recorder.h"
 
@@ -34,6 +36,16 @@ class Robot {
   double period_s() const { return period_s_; }
 
   msgs::Twist teleop(const msgs::Twist& command, int ttl_ms);  // ApiError 409 under e-stop
+  // Plans (off the control loop) and starts a goal, preempting the active one. ApiError: 409
+  // estop_engaged, 422 goal_outside_map / goal_in_obstacle / no_path.
+  navigation::Goal submit_goal(const GoalRequest& request);
+  std::vector<navigation::Goal> goals() const;
+  std::optional<navigation::Goal> goal(std::int64_t id) const;
+  // ApiError 404 unknown_goal; a finished goal is returned as it is.
+  navigation::Goal cancel_goal(std::int64_t id);
+  void set_localization_pose(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance);
+  // The active map: localization's wall lines and planning's inflated grid; ends a running goal.
+  void set_map(const mapping::OccupancyGrid& map);
   bool set_estop(bool engaged);
   api::RobotSnapshot snapshot() const;
   api::SimTruth truth() const;
@@ -51,7 +63,8 @@ class Robot {
 
  private:
   void read_sensors();
-  void update_odometry(const msgs::WheelEncoders& encoders);
+  void navigate();
+  void publish_goal_changes();
   void check_faults();
   void drive();
   void publish();
@@ -70,9 +83,9 @@ class Robot {
   mutable std::mutex mutex_;
   std::unique_ptr<sim::Simulator> sim_;
   std::uint64_t seed_;
-  estimation::WheelOdometry odometry_;
-  Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
-  geometry::Pose2D pose_;  // map frame; odometry is the localization for now
+  Localization localization_;
+  Navigation navigation_;
+  bool navigation_was_active_ = false;
   control::CommandMux mux_;
   control::VelocitySmoother smoother_;
   safety::SensorWatchdog watchdog_;

@@ -316,7 +316,7 @@ TEST_F(HealthAuthTest, UnknownPathsAre404) {
        {"/api/v1/nope", "/api/v2/robot", "/api/v1/robot/extra", "/api/v1", "/api", "/api/",
         "/api/v1/maps/1/unknown", "/api/v1/maps/1/image/extra", "/api/v1/runs/1/nope",
         "/api/v1/sim", "/api/v1/sim/nope", "/api/v1/sim/truth/x", "/api/v1/tokens/1/x",
-        "/api/v1/goals", "/metrics/x", "/no-such-file.js"}) {
+        "/api/v1/goals/1/x", "/api/v1/localization", "/metrics/x", "/no-such-file.js"}) {
     const HttpReply reply = admin().get(target);
     EXPECT_EQ(reply.status, 404) << target << ": " << reply.body;
     EXPECT_TRUE(reply.json().contains("error")) << target;

@@ -1,0 +1,82 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/control/navigation_supervisor.h"
+#include "core/control/path_tracker.h"
+#include "core/control/path_tracker_factory.h"
+#include "core/control/potential_field_avoider.h"
+#include "core/msgs/sonar_ring.h"
+#include "core/msgs/twist.h"
+#include "core/navigation/goal.h"
+#include "core/planning/path.h"
+
+namespace mobot::navigation {
+
+struct GoalNavigatorOptions {
+  control::PathTrackerOptions tracker;
+  control::NavigationSupervisorOptions supervisor;
+  control::PotentialFieldOptions avoidance;
+  // Finished goals kept for GET /goals.
+  std::size_t history = 100;
+  // A path that stays blocked is replanned (with the obstacles seen since) this many times, then
+  // the goal fails with "blocked".
+  int max_replans = 5;
+};
+
+// The navigation loop of ALGORITHMS.md (Fig. 2.20) for one goal at a time: track the planned path
+// with the goal's controller, hand over to sonar potential-field avoidance when something is
+// within d0 ahead and back once clear, ask for a replan when the path stays blocked, and keep the
+// goal lifecycle. Pure: the planner runs elsewhere and time is an argument.
+class GoalNavigator {
+ public:
+  struct TickResult {
+    std::optional<msgs::Twist> command;  // nothing when no goal is active
+    bool replan_needed = false;          // the caller plans again and calls replan()
+    control::NavigationMode mode = control::NavigationMode::kIdle;
+  };
+
+  explicit GoalNavigator(GoalNavigatorOptions options);
+
+  // Starts a goal whose path is planned; an active goal is canceled ("preempted"). The goal's
+  // controller must be one make_path_tracker knows (the caller validates it).
+  const Goal& start(Goal goal, const planning::Path& path, double now_s);
+  // Ends the active goal, if any, with a final status and reason.
+  void end_active(GoalStatus status, const std::string& reason, double now_s);
+  // Cancels goal `id`: false when it is unknown; a finished goal is left as it is.
+  bool cancel(std::int64_t id, double now_s);
+  // A new path for the active goal after replan_needed; ignored when `id` is no longer active.
+  void replan(std::int64_t id, const planning::Path& path, double now_s);
+
+  TickResult tick(double now_s, const geometry::Pose2D& pose, const msgs::Twist& velocity,
+                  std::span<const msgs::RangeReading> sonar);
+
+  std::optional<std::int64_t> active_id() const;
+  std::optional<Goal> find(std::int64_t id) const;
+  std::vector<Goal> list() const;
+  // Goals whose status or path changed since the last call, oldest change first.
+  std::vector<Goal> take_changes();
+
+ private:
+  Goal* active();
+  void finish(Goal& goal, GoalStatus status, const std::string& reason, double now_s);
+  void follow(Goal& goal, const planning::Path& path, double now_s);
+  void note_change(const Goal& goal);
+
+  GoalNavigatorOptions options_;
+  std::deque<Goal> goals_;  // oldest first; at most one is active (the last)
+  std::unique_ptr<control::PathTracker> tracker_;
+  control::NavigationSupervisor supervisor_;
+  control::PotentialFieldAvoider avoider_;
+  bool replan_requested_ = false;
+  std::vector<Goal> changes_;
+};
+
+}  // namespace mobot::navigation

@@ -1,0 +1,67 @@
+#include "server/planning_worker.h"
+
+#include <boost/asio/post.hpp>
+#include <stdexcept>
+
+#include "core/planning/global_planner_factory.h"
+
+namespace mobot::server {
+
+PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options)
+    : builder_(grid_options) {}
+
+PlanningWorker::~PlanningWorker() { pool_.join(); }
+
+void PlanningWorker::set_map(const mapping::OccupancyGrid& map) {
+  auto copy = std::make_shared<const mapping::OccupancyGrid>(map);
+  auto grid = std::make_shared<const planning::PlanningGrid>(builder_.build(*copy));
+  std::lock_guard lock(mutex_);
+  map_ = std::move(copy);
+  static_grid_ = std::move(grid);
+}
+
+std::shared_ptr<const planning::PlanningGrid> PlanningWorker::static_grid() const {
+  std::lock_guard lock(mutex_);
+  return static_grid_;
+}
+
+std::future<PlanningWorker::Outcome> PlanningWorker::plan(
+    const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
+    std::vector<geometry::Point2D> extra_obstacles_in_map) {
+  auto task = std::make_shared<std::packaged_task<Outcome()>>(
+      [this, start, goal, planner, extra = std::move(extra_obstacles_in_map)] {
+        return plan_now(start, goal, planner, extra);
+      });
+  std::future<Outcome> result = task->get_future();
+  boost::asio::post(pool_, [task] { (*task)(); });
+  return result;
+}
+
+planning::GlobalPlanner& PlanningWorker::planner_named(const std::string& name) {
+  auto& planner = planners_[name];
+  if (!planner) planner = planning::make_global_planner(name);
+  if (!planner) throw std::invalid_argument("unknown planner '" + name + "'");
+  return *planner;
+}
+
+PlanningWorker::Outcome PlanningWorker::plan_now(
+    const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
+    const std::vector<geometry::Point2D>& extra_obstacles_in_map) {
+  std::shared_ptr<const mapping::OccupancyGrid> map;
+  std::shared_ptr<const planning::PlanningGrid> grid;
+  {
+    std::lock_guard lock(mutex_);
+    map = map_;
+    grid = static_grid_;
+  }
+  if (!grid) return {planning::PlanError::kNoMap, {}};
+  if (!extra_obstacles_in_map.empty()) {
+    grid = std::make_shared<const planning::PlanningGrid>(
+        builder_.build(*map, {{}, extra_obstacles_in_map}));
+  }
+  const planning::PlanResult result = planner_named(planner).plan(*grid, start, goal);
+  if (!result.ok()) return {result.error, {}};
+  return {std::nullopt, planning::Path(smoother_.smooth(*grid, result.points_in_map))};
+}
+
+}  // namespace mobot::server

@@ -1,0 +1,66 @@
+#pragma once
+
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <boost/asio/thread_pool.hpp>
+
+#include "core/geometry/pose2d.h"
+#include "core/mapping/occupancy_grid.h"
+#include "core/planning/global_planner.h"
+#include "core/planning/path.h"
+#include "core/planning/path_smoother.h"
+#include "core/planning/planning_grid.h"
+#include "core/planning/planning_grid_builder.h"
+
+namespace mobot::server {
+
+// Global planning off the control loop: one worker thread owns the planners (they keep scratch
+// memory between plans), plans run one after another, and callers get a future. The static
+// planning grid (the active map, inflated) is built once per map; obstacles the laser sees that
+// the map does not have are added for a plan when given.
+class PlanningWorker {
+ public:
+  struct Outcome {
+    std::optional<planning::PlanError> error;
+    planning::Path path;  // smoothed, map frame
+  };
+
+  explicit PlanningWorker(planning::PlanningGridOptions grid_options);
+  ~PlanningWorker();
+  PlanningWorker(const PlanningWorker&) = delete;
+  PlanningWorker& operator=(const PlanningWorker&) = delete;
+
+  // Inflates `map` (on the caller's thread) and plans on it from now on.
+  void set_map(const mapping::OccupancyGrid& map);
+  // The inflated active map, or null before set_map.
+  std::shared_ptr<const planning::PlanningGrid> static_grid() const;
+
+  std::future<Outcome> plan(const geometry::Pose2D& start, const geometry::Pose2D& goal,
+                            const std::string& planner,
+                            std::vector<geometry::Point2D> extra_obstacles_in_map);
+
+ private:
+  Outcome plan_now(const geometry::Pose2D& start, const geometry::Pose2D& goal,
+                   const std::string& planner,
+                   const std::vector<geometry::Point2D>& extra_obstacles_in_map);
+  planning::GlobalPlanner& planner_named(const std::string& name);
+
+  const planning::PlanningGridBuilder builder_;
+  const planning::PathSmoother smoother_;
+
+  mutable std::mutex mutex_;  // guards map_ and static_grid_
+  std::shared_ptr<const mapping::OccupancyGrid> map_;
+  std::shared_ptr<const planning::PlanningGrid> static_grid_;
+
+  // Used only on the worker thread.
+  std::map<std::string, std::unique_ptr<planning::GlobalPlanner>> planners_;
+  boost::asio::thread_pool pool_{1};
+};
+
+}  // namespace mobot::server
