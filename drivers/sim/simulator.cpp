@@ -18,8 +18,11 @@ constexpr double kMaxSubstepTravel_m = 0.02;
 constexpr int kContactBisections = 10;
 constexpr int kSonarRaysPerCone = 7;
 constexpr double kNoReturnBeyondMax_m = 1.0;
+// The bearing landmarks are lit cylinders 10 cm across (R1): a sight line that reaches the
+// cylinder's surface sees it.
+constexpr double kLandmarkRadius_m = 0.05;
 
-enum class Stream : std::uint32_t { kDrive = 1, kLaser, kSonar, kCompass };
+enum class Stream : std::uint32_t { kDrive = 1, kLaser, kSonar, kCompass, kCamera };
 
 std::mt19937_64 random_stream(std::uint64_t seed, Stream stream) {
   std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -41,6 +44,10 @@ RobotProfile validated(RobotProfile p) {
       !positive(p.right_wheel_scale) || !positive(p.track_scale) || !positive(p.max_linear_mps) ||
       !positive(p.max_angular_radps)) {
     throw std::invalid_argument("robot profile: geometry, ranges, scales and limits must be > 0");
+  }
+  if (!std::isfinite(p.camera_range_m) || p.camera_range_m < 0.0 ||
+      !std::isfinite(p.bearing_sigma_rad) || p.bearing_sigma_rad < 0.0) {
+    throw std::invalid_argument("robot profile: camera range and bearing sigma must be >= 0");
   }
   return p;
 }
@@ -75,6 +82,7 @@ void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
   laser_rng_ = random_stream(seed, Stream::kLaser);
   sonar_rng_ = random_stream(seed, Stream::kSonar);
   compass_rng_ = random_stream(seed, Stream::kCompass);
+  camera_rng_ = random_stream(seed, Stream::kCamera);
   // Start the PID error in its stationary distribution.
   left_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
   right_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
@@ -304,6 +312,28 @@ msgs::SonarRing Simulator::read_sonar() {
 msgs::CompassReading Simulator::read_compass() {
   return {time_s_,
           geometry::wrap_angle(pose_.theta + gaussian(compass_rng_, profile_.compass_sigma_rad))};
+}
+
+msgs::LandmarkBearings Simulator::read_landmark_bearings() {
+  msgs::LandmarkBearings image;
+  image.stamp_s = time_s_;
+  const geometry::Point2D camera{pose_.x, pose_.y};
+  for (const Landmark& landmark : world_.landmarks) {
+    const double dx_m = landmark.x_m - camera.x;
+    const double dy_m = landmark.y_m - camera.y;
+    const double distance_m = std::hypot(dx_m, dy_m);
+    if (!(distance_m <= profile_.camera_range_m)) continue;
+    const double direction_rad = std::atan2(dy_m, dx_m);
+    // Blocked only by something in front of the cylinder's near surface.
+    const double clear_m = std::max(0.0, distance_m - kLandmarkRadius_m);
+    if (clear_m > 0.0 && nearest_in_plane(camera, direction_rad, clear_m)) continue;
+    image.bearings.push_back(
+        {landmark.name,
+         {landmark.x_m, landmark.y_m},
+         geometry::wrap_angle(direction_rad - pose_.theta +
+                              gaussian(camera_rng_, profile_.bearing_sigma_rad))});
+  }
+  return image;
 }
 
 int Simulator::add_obstacle(double x_m, double y_m, double radius_m, double height_m) {

@@ -9,6 +9,7 @@
 
 #include "core/geometry/pose2d.h"
 #include "core/msgs/compass_reading.h"
+#include "core/msgs/landmark_bearing.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/sonar_ring.h"
 #include "core/msgs/twist.h"
@@ -69,6 +70,11 @@ class Simulator {
   msgs::SonarRing read_sonar();
   // True heading plus gaussian noise, wrapped.
   msgs::CompassReading read_compass();
+  // The omnidirectional camera at the base centre: every world landmark no further than
+  // profile().camera_range_m whose line of sight in the laser plane (walls, boxes and obstacles
+  // at least that tall) is clear up to the landmark's surface gives its bearing from the heading
+  // plus gaussian noise (profile().bearing_sigma_rad), wrapped; in the world's landmark order.
+  msgs::LandmarkBearings read_landmark_bearings();
 
   // Whether the body at `pose` would touch a wall, a box or an obstacle (or leave the floor plan).
   bool pose_collides(const geometry::Pose2D& pose) const;
@@ -127,6 +133,7 @@ class Simulator {
   std::mt19937_64 laser_rng_;
   std::mt19937_64 sonar_rng_;
   std::mt19937_64 compass_rng_;
+  std::mt19937_64 camera_rng_;
 };
 
 }  // namespace mobot::sim
