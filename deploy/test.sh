@@ -12,6 +12,10 @@ cd "$ROOT"
 echo "== unit and API tests"
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 300
 
+echo "== reference results in the simulator (ALGORITHMS.md E1 UMBmark, E2 Table 3.3)"
+build/tests/bench/mobot_umbmark
+build/tests/bench/mobot_fusion_table
+
 echo "== dashboard unit tests"
 (cd web && npm test --silent)
 

@@ -144,7 +144,8 @@ int App::run() {
 
   const auto endpoint = http_.listen({config_.server.bind_address, config_.server.port});
   loop_->start(config_.sim.time_scale);
-  const unsigned threads = std::max(2U, std::thread::hardware_concurrency());
+  unsigned threads = std::max(2U, std::thread::hardware_concurrency());
+  if (const char* exp = std::getenv("MOBOT_EXP_IO")) threads = static_cast<unsigned>(std::atoi(exp));  // EXPERIMENT
   for (unsigned i = 0; i < threads; ++i) io_threads_.emplace_back([this] { io_.run(); });
 
   const std::string url =

@@ -123,6 +123,7 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2"}},
       {"sim", {"world", "worlds_dir", "seed", "time_scale"}},
+      {"odometry", {"left_wheel_radius_m", "right_wheel_radius_m", "track_m"}},
       {"localization", {"method", "fuse"}},
       {"navigation",
        {"goal_tolerance_m", "goal_tolerance_rad", "max_linear_mps", "inscribed_radius_m",
@@ -199,6 +200,11 @@ Config load_config(const std::filesystem::path& file) {
   reader.read("sim", "seed", config.sim.seed);
   reader.read_number("sim", "time_scale", config.sim.time_scale, 0.1, 100.0);
 
+  reader.read_number("odometry", "left_wheel_radius_m", config.odometry.left_wheel_radius_m, 0.0,
+                     1.0);
+  reader.read_number("odometry", "right_wheel_radius_m", config.odometry.right_wheel_radius_m, 0.0,
+                     1.0);
+  reader.read_number("odometry", "track_m", config.odometry.track_m, 0.0, 5.0);
   read_localization(reader, config.localization);
   NavigationSection& navigation = config.navigation;
   reader.read_number("navigation", "goal_tolerance_m", navigation.goal_tolerance_m, 0.01, 1.0);

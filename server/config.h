@@ -39,6 +39,14 @@ struct SimSection {
   double time_scale = 1.0;
 };
 
+// Wheel geometry odometry integrates with. Unset (0) means the robot profile's nominal values;
+// tests/bench/umbmark_runs.cpp (UMBmark, ALGORITHMS.md E1) prints calibrated ones for here.
+struct OdometrySection {
+  double left_wheel_radius_m = 0.0;
+  double right_wheel_radius_m = 0.0;
+  double track_m = 0.0;
+};
+
 struct LocalizationSection {
   std::string method = "ekf";  // ekf | odometry
   // The EKF measurement sets of ALGORITHMS.md E2; each can be switched off to see its effect.
@@ -71,6 +79,7 @@ struct Config {
   ServerSection server;
   RobotSection robot;
   SimSection sim;
+  OdometrySection odometry;
   LocalizationSection localization;
   NavigationSection navigation;
   RecorderSection recorder;

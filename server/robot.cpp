@@ -9,10 +9,14 @@
 namespace mobot::server {
 namespace {
 
-estimation::OdometryParams nominal_odometry(const sim::RobotProfile& profile) {
-  // The nominal geometry: the simulator's systematic wheel errors stay uncorrected until the
-  // UMBmark calibration measures them.
-  return {profile.wheel_radius_m, profile.wheel_radius_m, profile.track_m,
+// The profile's nominal geometry, unless the config holds calibrated values: the simulator's
+// systematic wheel errors stay in the odometry until a UMBmark calibration measures them.
+estimation::OdometryParams odometry_params(const OdometrySection& calibrated,
+                                           const sim::RobotProfile& profile) {
+  const auto or_nominal = [](double value, double nominal) { return value > 0.0 ? value : nominal; };
+  return {or_nominal(calibrated.left_wheel_radius_m, profile.wheel_radius_m),
+          or_nominal(calibrated.right_wheel_radius_m, profile.wheel_radius_m),
+          or_nominal(calibrated.track_m, profile.track_m),
           static_cast<int>(profile.ticks_per_wheel_rev)};
 }
 
@@ -52,7 +56,7 @@ Robot::Robot(const Config& config, sim::World world, api::StreamHub& hub, Record
       recorder_(recorder),
       period_s_(1.0 / config.robot.control_rate_hz),
       seed_(config.sim.seed),
-      localization_(config.localization, nominal_odometry(sim::r1_profile()), world.start),
+      localization_(config.localization, odometry_params(config.odometry, sim::r1_profile()), world.start),
       navigation_(config),
       mux_(config.robot.mux_sources),
       smoother_(config.robot.limits),

@@ -51,6 +51,22 @@ TEST(Config, ReadsValues) {
   EXPECT_EQ(config.sim.seed, 7U);
 }
 
+TEST(Config, ReadsCalibratedOdometryAndTheFusedMeasurementSets) {
+  const Config config = load_config(write_config(
+      "odometry: {left_wheel_radius_m: 0.0747, right_wheel_radius_m: 0.0752, track_m: 0.606}\n"
+      "localization: {method: ekf, fuse: [compass]}\n"));
+  EXPECT_DOUBLE_EQ(config.odometry.left_wheel_radius_m, 0.0747);
+  EXPECT_DOUBLE_EQ(config.odometry.track_m, 0.606);
+  EXPECT_TRUE(config.localization.fuse_compass);
+  EXPECT_FALSE(config.localization.fuse_lines);
+  EXPECT_FALSE(config.localization.fuse_bearing);
+  EXPECT_NE(error_of("localization: {fuse: [gps]}").find("'gps'"), std::string::npos);
+  EXPECT_NE(error_of("localization: {method: magic}").find("localization.method"),
+            std::string::npos);
+  EXPECT_NE(error_of("navigation: {max_linear_mps: 5}").find("navigation.max_linear_mps"),
+            std::string::npos);
+}
+
 TEST(Config, MessagesNameTheKeyAndTheRange) {
   EXPECT_EQ(error_of("robot: {laser_rate_hz: 100}"),
             "robot.laser_rate_hz: 100 is outside the allowed range [1, 40]");
