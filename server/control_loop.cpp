@@ -2,6 +2,8 @@
 
 #include <boost/asio/post.hpp>
 
+#include "api/prometheus_text.h"
+
 namespace mobot::server {
 namespace {
 
@@ -79,21 +81,17 @@ std::string ControlLoop::metrics_text() const {
   const auto ticks = ticks_.load();
   const double mean_s = ticks == 0 ? 0.0 : static_cast<double>(total_tick_ns_.load()) / ticks / 1e9;
   std::string out;
-  out += "# HELP mobot_control_ticks_total Control loop ticks.\n";
-  out += "# TYPE mobot_control_ticks_total counter\n";
-  out += "mobot_control_ticks_total " + std::to_string(ticks) + "\n";
-  out += "# HELP mobot_control_late_ticks_total Times the loop fell behind and skipped ahead.\n";
-  out += "# TYPE mobot_control_late_ticks_total counter\n";
-  out += "mobot_control_late_ticks_total " + std::to_string(late_ticks_.load()) + "\n";
-  out += "# HELP mobot_control_tick_seconds_mean Mean duration of one tick.\n";
-  out += "# TYPE mobot_control_tick_seconds_mean gauge\n";
-  out += "mobot_control_tick_seconds_mean " + std::to_string(mean_s) + "\n";
-  out += "# HELP mobot_control_tick_seconds_max Longest tick.\n";
-  out += "# TYPE mobot_control_tick_seconds_max gauge\n";
-  out += "mobot_control_tick_seconds_max " + std::to_string(max_tick_ns_.load() / 1e9) + "\n";
-  out += "# HELP mobot_time_scale Simulated seconds per wall second.\n";
-  out += "# TYPE mobot_time_scale gauge\n";
-  out += "mobot_time_scale " + std::to_string(time_scale_.load()) + "\n";
+  api::append_metric(out, "mobot_control_ticks_total", "counter", "Control loop ticks.",
+                     static_cast<double>(ticks));
+  api::append_metric(out, "mobot_control_late_ticks_total", "counter",
+                     "Times the loop fell behind and skipped ahead.",
+                     static_cast<double>(late_ticks_.load()));
+  api::append_metric(out, "mobot_control_tick_seconds_mean", "gauge", "Mean duration of one tick.",
+                     mean_s);
+  api::append_metric(out, "mobot_control_tick_seconds_max", "gauge", "Longest tick.",
+                     static_cast<double>(max_tick_ns_.load()) / 1e9);
+  api::append_metric(out, "mobot_time_scale", "gauge", "Simulated seconds per wall second.",
+                     time_scale_.load());
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "server/localization.h"
 
+#include "api/prometheus_text.h"
+
 namespace mobot::server {
 
 Localization::Localization(const LocalizationSection& config,
@@ -56,15 +58,12 @@ std::string Localization::method() const {
 
 std::string Localization::metrics_text() const {
   std::string out;
-  out += "# HELP mobot_localization_line_updates_total Scans fused as line features.\n";
-  out += "# TYPE mobot_localization_line_updates_total counter\n";
-  out += "mobot_localization_line_updates_total " + std::to_string(line_updates_) + "\n";
-  out += "# HELP mobot_localization_lines_matched_total Scan lines matched to map lines.\n";
-  out += "# TYPE mobot_localization_lines_matched_total counter\n";
-  out += "mobot_localization_lines_matched_total " + std::to_string(lines_matched_) + "\n";
-  out += "# HELP mobot_localization_rejected_updates_total EKF updates refused (gate, NaN).\n";
-  out += "# TYPE mobot_localization_rejected_updates_total counter\n";
-  out += "mobot_localization_rejected_updates_total " + std::to_string(rejected_updates_) + "\n";
+  api::append_metric(out, "mobot_localization_line_updates_total", "counter",
+                     "Scans fused as line features.", static_cast<double>(line_updates_));
+  api::append_metric(out, "mobot_localization_lines_matched_total", "counter",
+                     "Scan lines matched to map lines.", static_cast<double>(lines_matched_));
+  api::append_metric(out, "mobot_localization_rejected_updates_total", "counter",
+                     "EKF updates refused (gate, NaN).", static_cast<double>(rejected_updates_));
   return out;
 }
 

@@ -4,6 +4,8 @@
 
 #include <chrono>
 
+#include "api/prometheus_text.h"
+
 namespace mobot::server {
 
 Recorder::Recorder(db::RunStore& runs, std::int64_t run_id, int flush_period_ms)
@@ -108,15 +110,12 @@ void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
 std::string Recorder::metrics_text() const {
   std::lock_guard lock(mutex_);
   std::string out;
-  out += "# HELP mobot_recorder_batches_total Batches committed to SQLite.\n";
-  out += "# TYPE mobot_recorder_batches_total counter\n";
-  out += "mobot_recorder_batches_total " + std::to_string(batches_written_) + "\n";
-  out += "# HELP mobot_recorder_samples_total Trajectory samples committed.\n";
-  out += "# TYPE mobot_recorder_samples_total counter\n";
-  out += "mobot_recorder_samples_total " + std::to_string(samples_written_) + "\n";
-  out += "# HELP mobot_recorder_write_failures_total Failed batch writes (retried).\n";
-  out += "# TYPE mobot_recorder_write_failures_total counter\n";
-  out += "mobot_recorder_write_failures_total " + std::to_string(write_failures_) + "\n";
+  api::append_metric(out, "mobot_recorder_batches_total", "counter",
+                     "Batches committed to SQLite.", static_cast<double>(batches_written_));
+  api::append_metric(out, "mobot_recorder_samples_total", "counter",
+                     "Trajectory samples committed.", static_cast<double>(samples_written_));
+  api::append_metric(out, "mobot_recorder_write_failures_total", "counter",
+                     "Failed batch writes (retried).", static_cast<double>(write_failures_));
   return out;
 }
 

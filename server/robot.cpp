@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "api/api_error.h"
+#include "api/prometheus_text.h"
 #include "core/control/velocity_limits.h"
 #include "core/perception/map_line_extractor.h"
 
@@ -412,18 +413,24 @@ double Robot::distance_m() const {
 std::string Robot::metrics_text() const {
   std::lock_guard lock(mutex_);
   std::string out;
-  out += "# HELP mobot_robot_time_seconds Robot clock.\n# TYPE mobot_robot_time_seconds gauge\n";
-  out += "mobot_robot_time_seconds " + std::to_string(now_s_) + "\n";
-  out += "# HELP mobot_collisions_total Collisions since start.\n";
-  out += "# TYPE mobot_collisions_total counter\n";
-  out += "mobot_collisions_total " + std::to_string(collisions_) + "\n";
-  out += "# HELP mobot_estop E-stop engaged (1) or not (0).\n# TYPE mobot_estop gauge\n";
-  out += "mobot_estop " + std::to_string(estop_ ? 1 : 0) + "\n";
+  api::append_metric(out, "mobot_robot_time_seconds", "gauge", "Robot clock.", now_s_);
+  api::append_metric(out, "mobot_collisions_total", "counter", "Collisions since start.",
+                     static_cast<double>(collisions_));
+  api::append_metric(out, "mobot_estop", "gauge", "E-stop engaged (1) or not (0).",
+                     estop_ ? 1.0 : 0.0);
+  api::append_metric(out, "mobot_navigating", "gauge", "A goal is active (1) or not (0).",
+                     navigation_.active() ? 1.0 : 0.0);
   out += localization_.metrics_text();
-  out += "# HELP mobot_sensor_rate_hz Measured sensor rate.\n# TYPE mobot_sensor_rate_hz gauge\n";
+  bool first = true;
   for (const auto& sensor : watchdog_.status(now_s_)) {
-    out += "mobot_sensor_rate_hz{sensor=\"" + sensor.name + "\"} " +
-           std::to_string(sensor.rate_hz) + "\n";
+    const std::string labels = "sensor=\"" + sensor.name + "\"";
+    if (first) {
+      api::append_metric(out, "mobot_sensor_rate_hz", "gauge", "Measured sensor rate.",
+                         sensor.rate_hz, labels);
+    } else {
+      api::append_sample(out, "mobot_sensor_rate_hz", sensor.rate_hz, labels);
+    }
+    first = false;
   }
   return out;
 }

@@ -1,0 +1,15 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace mobot::api {
+
+// Appends one metric in the Prometheus text exposition format: its HELP and TYPE lines and the
+// sample. `labels` is empty or the inside of the braces, e.g. sensor="laser".
+void append_metric(std::string& out, std::string_view name, std::string_view type,
+                   std::string_view help, double value, std::string_view labels = {});
+// A further sample of a metric already introduced by append_metric (another label set).
+void append_sample(std::string& out, std::string_view name, double value, std::string_view labels);
+
+}  // namespace mobot::api
