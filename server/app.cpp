@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "api/api_error.h"
+#include "api/prometheus_text.h"
 #include "drivers/sim/world.h"
 #include "server/token_auth.h"
 
@@ -84,7 +85,7 @@ App::App(Config config)
   ensure_admin_token();
 
   sim::World world = sim::load_world(sim::resolve_world(worlds_dir_, config_.sim.world));
-  ensure_world_map(world.name, world.floor);
+  ensure_world_map(world.name, sim::surveyed_map(world, sim::r1_profile().height_m));
 
   runs_.close_dangling_runs(unix_now_s());
   const std::string run_name = config_.run_name.empty() ? default_run_name() : config_.run_name;
@@ -274,6 +275,8 @@ void App::delete_map(std::int64_t id) {
 }
 
 std::vector<api::RunInfo> App::list_runs() const {
+  // The current run's goal counts come from its events: the ones still buffered count too.
+  recorder_->flush();
   std::vector<api::RunInfo> out;
   for (const auto& run : runs_.list()) {
     out.push_back({run.id, run.name, run.started_unix_s, run.ended_unix_s, run.distance_m,
@@ -348,7 +351,7 @@ void App::sim_reset(const api::SimResetRequest& request) {
                             : robot_->pose_is_free(*request.pose);
     if (!free) throw api::ApiError(400, "pose_in_obstacle", "the robot does not fit at that pose");
   }
-  if (world) ensure_world_map(world->name, world->floor);
+  if (world) ensure_world_map(world->name, sim::surveyed_map(*world, sim::r1_profile().height_m));
   robot_->reset(std::move(world), request.pose, request.seed);
   recorder_->flush();
   if (request.world) publish_active_map();
@@ -364,8 +367,7 @@ bool App::remove_sim_obstacle(int id) { return robot_->remove_obstacle(id); }
 
 std::string App::metrics_text() const {
   std::string out = robot_->metrics_text() + loop_->metrics_text() + recorder_->metrics_text();
-  out += "# HELP mobot_uptime_seconds Seconds since start.\n# TYPE mobot_uptime_seconds gauge\n";
-  out += "mobot_uptime_seconds " + std::to_string(uptime_s()) + "\n";
+  api::append_metric(out, "mobot_uptime_seconds", "gauge", "Seconds since start.", uptime_s());
   return out;
 }
 

@@ -59,7 +59,7 @@ struct NavigationSection {
   double goal_tolerance_m = 0.05;
   double goal_tolerance_rad = 0.05;
   double max_linear_mps = 0.6;  // cruise cap while following a path (<= limits.max_linear_mps)
-  double inscribed_radius_m = 0.3;  // R1's 0.6 x 0.6 m footprint
+  double inscribed_radius_m = 0.42;  // R1: the 0.6 x 0.6 m footprint turning in place
   double avoidance_distance_m = 0.7;  // C4's d0
 };
 

@@ -1,7 +1,9 @@
 #include "server/navigation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace mobot::server {
 namespace {
@@ -18,6 +20,9 @@ navigation::GoalNavigatorOptions navigator_options(const Config& config) {
   follower.goal_tolerance_rad = config.navigation.goal_tolerance_rad;
   follower.max_linear_mps = config.navigation.max_linear_mps;
   follower.max_angular_radps = config.robot.limits.max_angular_radps;
+  // Point stabilisation swings the body on a curve; started late it happens where the path
+  // ended (a goal just past a door must not be approached with the footprint in the doorway).
+  follower.final_approach_m = 0.4;
   options.avoidance.influence_distance_m = config.navigation.avoidance_distance_m;
   options.avoidance.max_angular_radps = config.robot.limits.max_angular_radps;
   return options;
@@ -29,10 +34,26 @@ planning::PlanningGridOptions grid_options(const Config& config) {
   return options;
 }
 
+double distance_to_polyline(const std::vector<geometry::Point2D>& path, geometry::Point2D point) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const double dx = path[i + 1].x - path[i].x;
+    const double dy = path[i + 1].y - path[i].y;
+    const double length2 = dx * dx + dy * dy;
+    const double along =
+        length2 > 0.0 ? ((point.x - path[i].x) * dx + (point.y - path[i].y) * dy) / length2 : 0.0;
+    const double f = std::clamp(along, 0.0, 1.0);
+    best = std::min(best, std::hypot(path[i].x + f * dx - point.x, path[i].y + f * dy - point.y));
+  }
+  return best;
+}
+
 }  // namespace
 
 Navigation::Navigation(const Config& config)
-    : worker_(grid_options(config)), navigator_(navigator_options(config)) {}
+    : blocking_distance_m_(config.navigation.inscribed_radius_m),
+      worker_(grid_options(config)),
+      navigator_(navigator_options(config)) {}
 
 std::future<PlanningWorker::Outcome> Navigation::plan(const geometry::Pose2D& start,
                                                       const GoalRequest& request) {
@@ -65,7 +86,26 @@ bool Navigation::explained_by_map(const geometry::Point2D& point_in_map) const {
   return false;
 }
 
-void Navigation::observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map) {
+
+bool Navigation::near_active_path(const geometry::Point2D& point_in_map, double within_m) const {
+  const auto id = navigator_.active_id();
+  if (!id) return false;
+  return distance_to_polyline(navigator_.find(*id)->path, point_in_map) < within_m;
+}
+
+void Navigation::request_replan(const geometry::Pose2D& pose, double now_s) {
+  const auto id = navigator_.active_id();
+  if (!id || replan_) return;
+  const auto goal = navigator_.find(*id);
+  GoalRequest request;
+  request.target = goal->target;
+  request.planner = goal->planner;
+  replan_ = PendingReplan{goal->id, plan(pose, request)};
+  last_replan_s_ = now_s;
+}
+
+void Navigation::observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map,
+                              const geometry::Pose2D& base_in_map, double now_s) {
   unexpected_points_.clear();
   for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
     const float range_m = scan.ranges_m[i];
@@ -74,6 +114,16 @@ void Navigation::observe_scan(const msgs::LaserScan& scan, const geometry::Pose2
     const geometry::Point2D point = geometry::transform_point(
         sensor_in_map, {range_m * std::cos(angle_rad), range_m * std::sin(angle_rad)});
     if (!explained_by_map(point)) unexpected_points_.push_back(point);
+  }
+  // Seen from afar by the laser, an obstacle on the path is planned around before the sonar
+  // has to swerve; at most once a second, so a person walking along does not thrash the planner.
+  constexpr double kReplanInterval_s = 1.0;
+  if (now_s - last_replan_s_ < kReplanInterval_s) return;
+  for (const auto& point : unexpected_points_) {
+    if (near_active_path(point, blocking_distance_m_)) {
+      request_replan(base_in_map, now_s);
+      return;
+    }
   }
 }
 
@@ -90,8 +140,12 @@ void Navigation::observe_sonar(const msgs::SonarRing& ring, const geometry::Pose
         wall = explained_by_map(geometry::transform_point(
             sensor, {reading.range_m * std::cos(angle_rad), reading.range_m * std::sin(angle_rad)}));
       }
-      // A wall on the map is the planner's business; the potential field is for what is not.
-      if (wall) echo.range_m = reading.range_max_m;
+      const geometry::Point2D axis_point = geometry::transform_point(sensor, {reading.range_m, 0.0});
+      // A wall on the map, or something the path already keeps clear of, is the planner's
+      // business; the potential field is for what stands on the path and the map does not show.
+      if (wall || !near_active_path(axis_point, blocking_distance_m_ + 0.1)) {
+        echo.range_m = reading.range_max_m;
+      }
     }
     unexpected_echoes_.push_back(echo);
   }
@@ -118,13 +172,7 @@ std::optional<msgs::Twist> Navigation::tick(double now_s, const geometry::Pose2D
                                             const msgs::Twist& velocity) {
   collect_replan(now_s);
   const auto result = navigator_.tick(now_s, pose, velocity, unexpected_echoes_);
-  if (result.replan_needed) {
-    const auto goal = navigator_.find(*navigator_.active_id());
-    GoalRequest request;
-    request.target = goal->target;
-    request.planner = goal->planner;
-    replan_ = PendingReplan{goal->id, plan(pose, request)};
-  }
+  if (result.replan_needed) request_replan(pose, now_s);
   return result.command;
 }
 

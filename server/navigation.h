@@ -42,8 +42,11 @@ class Navigation {
   }
   bool cancel(std::int64_t id, double now_s) { return navigator_.cancel(id, now_s); }
 
-  // Remembers the scan's returns that the map does not explain (dropped obstacles, people).
-  void observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
+  // Remembers the scan's returns that the map does not explain (dropped obstacles, people), and
+  // replans at once when one of them lies on the path being followed.
+  void observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map,
+                    const geometry::Pose2D& base_in_map, double now_s);
+  // Keeps the echoes the potential field should react to: not a wall of the map, and on the path.
   void observe_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map);
 
   // One control tick: the command for the navigation mux source while a goal is active.
@@ -57,8 +60,12 @@ class Navigation {
 
  private:
   bool explained_by_map(const geometry::Point2D& point_in_map) const;
+  bool near_active_path(const geometry::Point2D& point_in_map, double within_m) const;
+  void request_replan(const geometry::Pose2D& pose, double now_s);
   void collect_replan(double now_s);
 
+  // A return nearer the path than this blocks it (the planner keeps this much clearance).
+  const double blocking_distance_m_;
   PlanningWorker worker_;
   navigation::GoalNavigator navigator_;
   std::int64_t next_goal_id_ = 1;
@@ -69,6 +76,7 @@ class Navigation {
     std::future<PlanningWorker::Outcome> outcome;
   };
   std::optional<PendingReplan> replan_;
+  double last_replan_s_ = -1e9;
 };
 
 }  // namespace mobot::server

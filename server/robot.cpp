@@ -105,7 +105,8 @@ void Robot::read_sensors() {
     new_scan_->stamp_s = t_s;
     localization_.on_scan(*new_scan_);
     navigation_.observe_scan(*new_scan_,
-                             geometry::compose(localization_.pose(), new_scan_->sensor_in_base));
+                             geometry::compose(localization_.pose(), new_scan_->sensor_in_base),
+                             localization_.pose(), t_s);
     watchdog_.seen("laser", t_s);
     laser_schedule_.taken(t_s);
   }

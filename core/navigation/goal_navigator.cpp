@@ -1,6 +1,8 @@
 #include "core/navigation/goal_navigator.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace mobot::navigation {
@@ -40,7 +42,22 @@ void GoalNavigator::follow(Goal& goal, const planning::Path& path, double now_s)
   supervisor_.set_path(path, now_s);
   avoider_.reset();
   replan_requested_ = false;
+  last_moved_s_ = now_s;
+  last_moved_pose_ = {std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0};
   note_change(goal);
+}
+
+bool GoalNavigator::stuck(double now_s, const geometry::Pose2D& pose) {
+  const bool moved =
+      !(std::hypot(pose.x - last_moved_pose_.x, pose.y - last_moved_pose_.y) <
+        options_.stuck_distance_m) ||
+      std::abs(geometry::wrap_angle(pose.theta - last_moved_pose_.theta)) > options_.stuck_angle_rad;
+  if (moved) {
+    last_moved_pose_ = pose;
+    last_moved_s_ = now_s;
+    return false;
+  }
+  return now_s - last_moved_s_ > options_.stuck_timeout_s;
 }
 
 void GoalNavigator::end_active(GoalStatus status, const std::string& reason, double now_s) {
@@ -87,6 +104,10 @@ GoalNavigator::TickResult GoalNavigator::tick(double now_s, const geometry::Pose
   TickResult result;
   Goal* goal = active();
   if (goal == nullptr) return result;
+  if (stuck(now_s, pose)) {
+    finish(*goal, GoalStatus::kFailed, "stuck", now_s);
+    return result;
+  }
   const auto decision = supervisor_.update(now_s, pose, sonar);
   result.mode = decision.mode;
   result.command = msgs::Twist{};

@@ -29,6 +29,11 @@ struct GoalNavigatorOptions {
   // A path that stays blocked is replanned (with the obstacles seen since) this many times, then
   // the goal fails with "blocked".
   int max_replans = 5;
+  // A goal whose robot has not moved (this far, or turned this much) for this long while the
+  // navigator commanded it fails with "stuck": wedged against something nothing else reports.
+  double stuck_timeout_s = 15.0;
+  double stuck_distance_m = 0.05;
+  double stuck_angle_rad = 0.1;
 };
 
 // The navigation loop of ALGORITHMS.md (Fig. 2.20) for one goal at a time: track the planned path
@@ -69,6 +74,7 @@ class GoalNavigator {
   void finish(Goal& goal, GoalStatus status, const std::string& reason, double now_s);
   void follow(Goal& goal, const planning::Path& path, double now_s);
   void note_change(const Goal& goal);
+  bool stuck(double now_s, const geometry::Pose2D& pose);
 
   GoalNavigatorOptions options_;
   std::deque<Goal> goals_;  // oldest first; at most one is active (the last)
@@ -77,6 +83,8 @@ class GoalNavigator {
   control::PotentialFieldAvoider avoider_;
   bool replan_requested_ = false;
   std::vector<Goal> changes_;
+  geometry::Pose2D last_moved_pose_;
+  double last_moved_s_ = 0.0;
 };
 
 }  // namespace mobot::navigation

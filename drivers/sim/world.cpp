@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 constexpr std::array<std::string_view, 12> kTopLevelKeys = {
     "name",        "description", "image", "resolution", "origin",   "negate", "occupied_thresh",
     "free_thresh", "mode",        "start", "boxes",      "landmarks"};
-constexpr std::array<std::string_view, 3> kBoxKeys = {"name", "min", "max"};
+constexpr std::array<std::string_view, 4> kBoxKeys = {"name", "min", "max", "on_map"};
 constexpr std::array<std::string_view, 3> kLandmarkKeys = {"name", "x", "y"};
 
 // Reads one world file; every error names the file and the key it is about.
@@ -179,6 +179,13 @@ Box3D read_box(const WorldFileReader& reader, const YAML::Node& node, const std:
   }
   Box3D box{lo[0], lo[1], hi[0], hi[1], lo[2], hi[2], reader.text(node["name"], key + ".name")};
   if (box.name.empty()) reader.fail(key + ".name", "must not be empty");
+  if (const YAML::Node on_map = node["on_map"]; on_map.IsDefined()) {
+    try {
+      box.on_map = on_map.as<bool>();
+    } catch (const YAML::Exception&) {
+      reader.fail(key + ".on_map", "must be true or false");
+    }
+  }
   return box;
 }
 
@@ -287,6 +294,21 @@ std::vector<WorldSummary> list_worlds(const std::filesystem::path& worlds_dir) {
   std::sort(worlds.begin(), worlds.end(),
             [](const WorldSummary& a, const WorldSummary& b) { return a.name < b.name; });
   return worlds;
+}
+
+mapping::OccupancyGrid surveyed_map(const World& world, double robot_height_m) {
+  mapping::OccupancyGrid map = world.floor;
+  for (const Box3D& box : world.boxes) {
+    if (!box.on_map || box.min_z_m >= robot_height_m || box.max_z_m <= 0.0) continue;
+    const mapping::CellIndex lo = map.cell_at_unchecked({box.min_x_m, box.min_y_m});
+    const mapping::CellIndex hi = map.cell_at_unchecked({box.max_x_m, box.max_y_m});
+    for (int y = std::max(lo.y, 0); y <= std::min(hi.y, map.height() - 1); ++y) {
+      for (int x = std::max(lo.x, 0); x <= std::min(hi.x, map.width() - 1); ++x) {
+        map.set({x, y}, mapping::OccupancyGrid::kOccupied);
+      }
+    }
+  }
+  return map;
 }
 
 }  // namespace mobot::sim

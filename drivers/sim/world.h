@@ -19,6 +19,9 @@ struct Box3D {
   double min_z_m = 0.0;
   double max_z_m = 0.0;
   std::string name;
+  // Furniture drawn on the building's surveyed floor plan (the map the robot is given), though
+  // its own 2D laser may not see it; gate beams and the like are not.
+  bool on_map = false;
 };
 
 // A red cylinder at a known position, used as a bearing landmark (E2 measurement 3).
@@ -51,6 +54,10 @@ struct WorldSummary {
 
 // A built-in name ("office") -> worlds_dir/office/world.yaml; a path to a .yaml file -> itself.
 // Throws WorldError when neither exists.
+// The map an operator would load for this world: the floor plan's walls plus the boxes marked
+// on_map that stand in the robot's height band (they block the robot wherever they are drawn).
+mapping::OccupancyGrid surveyed_map(const World& world, double robot_height_m);
+
 std::filesystem::path resolve_world(const std::filesystem::path& worlds_dir,
                                     const std::string& name_or_path);
 

@@ -77,9 +77,11 @@ def write_yaml(path, name, description, plan, start, boxes, landmarks):
         f"start: [{', '.join(fmt(v) for v in start)}]",
         "boxes:",
     ]
-    for box_name, lo, hi in boxes:
+    for box in boxes:
+        box_name, lo, hi = box[:3]
+        on_map = ", on_map: true" if len(box) > 3 and box[3] else ""
         lines.append(f"  - {{name: {box_name}, min: [{', '.join(fmt(v) for v in lo)}], "
-                     f"max: [{', '.join(fmt(v) for v in hi)}]}}")
+                     f"max: [{', '.join(fmt(v) for v in hi)}]{on_map}}}")
     lines.append("landmarks:")
     for lm_name, x, y in landmarks:
         lines.append(f"  - {{name: {lm_name}, x: {fmt(x)}, y: {fmt(y)}}}")
@@ -117,9 +119,10 @@ def office(out_dir):
     plan.write_pgm(out_dir / "office.pgm")
 
     boxes = [
-        # Table tops: the 0.4 m laser passes under them, the 1.2 m body does not.
-        ("table_1", (15.0, 11.0, 0.70), (16.6, 11.8, 0.75)),
-        ("table_2", (3.0, 2.5, 0.70), (4.6, 3.3, 0.75)),
+        # Table tops: the 0.4 m laser passes under them, the 1.2 m body does not. They are on the
+        # surveyed floor plan (on_map), so planning knows them though the laser does not.
+        ("table_1", (15.0, 11.0, 0.70), (16.6, 11.8, 0.75), True),
+        ("table_2", (3.0, 2.5, 0.70), (4.6, 3.3, 0.75), True),
         # A cabinet standing on the floor: the laser sees it.
         ("cabinet_1", (0.4, 14.2, 0.0), (1.6, 14.7, 1.8)),
     ]

@@ -176,3 +176,26 @@ TEST(GoalNavigator, StatusNames) {
 
 }  // namespace
 }  // namespace mobot::navigation
+
+namespace mobot::navigation {
+namespace {
+
+TEST(GoalNavigatorStuck, ARobotThatDoesNotMoveFailsTheGoal) {
+  GoalNavigatorOptions options;
+  options.stuck_timeout_s = 3.0;
+  GoalNavigator navigator(options);
+  Goal goal = goal_to(5, 0);
+  goal.id = 1;
+  navigator.start(goal, straight(0, 0, 5, 0), 0.0);
+  double now_s = 0.0;
+  // Wedged: the pose never changes whatever the navigator commands.
+  for (; now_s < 10.0 && navigator.active_id(); now_s += kTick_s) {
+    navigator.tick(now_s, {0, 0, 0}, {}, {});
+  }
+  EXPECT_EQ(navigator.find(1)->status, GoalStatus::kFailed);
+  EXPECT_EQ(navigator.find(1)->reason, "stuck");
+  EXPECT_NEAR(now_s, 3.0, 0.1);
+}
+
+}  // namespace
+}  // namespace mobot::navigation

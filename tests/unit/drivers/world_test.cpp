@@ -341,3 +341,26 @@ TEST(World, ErrorsNameTheFileAndTheKey) {
 
 }  // namespace
 }  // namespace mobot::sim
+
+namespace mobot::sim {
+namespace {
+
+TEST(SurveyedMap, DrawsFurnitureMarkedOnMapButNotGateBeams) {
+  const World office = load_world(resolve_world(MOBOT_DEFAULT_WORLDS_DIR, "office"));
+  const mapping::OccupancyGrid surveyed = surveyed_map(office, 1.2);
+  const auto table_centre = office.floor.cell_at({15.8, 11.4});
+  ASSERT_TRUE(table_centre);
+  EXPECT_FALSE(office.floor.is_occupied(*table_centre)) << "the floor plan has no table";
+  EXPECT_TRUE(surveyed.is_occupied(*table_centre)) << "the surveyed map has it";
+  // A box above the robot is never drawn, even when marked.
+  World high = office;
+  for (auto& box : high.boxes) box.min_z_m = 1.5, box.max_z_m = 1.6;
+  EXPECT_FALSE(surveyed_map(high, 1.2).is_occupied(*table_centre));
+
+  const World lobby = load_world(resolve_world(MOBOT_DEFAULT_WORLDS_DIR, "g2_lobby"));
+  EXPECT_EQ(surveyed_map(lobby, 1.2).cells(), lobby.floor.cells())
+      << "gate beams are not on the plan: only the 3D sweep finds them";
+}
+
+}  // namespace
+}  // namespace mobot::sim

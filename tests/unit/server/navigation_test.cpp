@@ -65,12 +65,12 @@ TEST(Navigation, PlansAroundWhatTheLaserSeesButTheMapDoesNotHave) {
   api::GoalRequest request;
   request.target = {8.0, 2.0, 0.0};
 
-  navigation.observe_scan(scan_with_obstacle_at(9.95), start);  // only walls
+  navigation.observe_scan(scan_with_obstacle_at(9.95), start, start, 0.0);  // only walls
   const auto clear = navigation.plan(start, request).get();
   ASSERT_FALSE(clear.error);
   EXPECT_LT(min_distance_to(clear.path, {5.0, 2.0}), 0.05) << "a straight corridor path";
 
-  navigation.observe_scan(scan_with_obstacle_at(5.0), start);  // something at (5, 2)
+  navigation.observe_scan(scan_with_obstacle_at(5.0), start, start, 0.0);  // something at (5, 2)
   const auto around = navigation.plan(start, request).get();
   ASSERT_FALSE(around.error);
   EXPECT_GT(min_distance_to(around.path, {5.0, 2.0}), 0.3) << "the path keeps the robot clear";
