@@ -1,6 +1,7 @@
 // The served OpenAPI document: valid OpenAPI 3, the same as api/openapi.json, documents every
 // endpoint the API tests use, and every operation it documents is served with the statuses it
 // lists.
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -122,6 +123,11 @@ TEST_F(OpenApiTest, EveryEndpointTheTestsUseIsDocumented) {
       {"GET", "/api/v1/robot"},
       {"POST", "/api/v1/teleop"},
       {"POST", "/api/v1/estop"},
+      {"GET", "/api/v1/goals"},
+      {"POST", "/api/v1/goals"},
+      {"GET", "/api/v1/goals/5"},
+      {"DELETE", "/api/v1/goals/5"},
+      {"POST", "/api/v1/localization/pose"},
       {"GET", "/api/v1/maps"},
       {"POST", "/api/v1/maps"},
       {"GET", "/api/v1/maps/7"},
@@ -283,6 +289,69 @@ TEST_F(OpenApiTest, ErrorStatusesTheServerGivesAreDocumented) {
         << test.method << " " << path << " answers " << reply.status << " but does not document it";
   }
   ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", false}}).status, 200);
+}
+
+TEST_F(OpenApiTest, GoalAndLocalizationErrorStatusesAreDocumented) {
+  const json doc = document();
+  ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", false}}).status, 200);
+  struct Case {
+    std::string method;
+    std::string target;
+    std::string body;
+    HttpClient client;
+    int status;
+  };
+  const std::vector<Case> cases = {
+      {"POST", "/api/v1/goals", R"({"x":5,"y":7.5})", viewer(), 403},
+      {"POST", "/api/v1/goals", R"({"x":NaN,"y":7.5})", operator_client(), 400},
+      {"POST", "/api/v1/goals", R"({"x":5,"y":7.5,"planner":"rrt"})", operator_client(), 400},
+      {"POST", "/api/v1/goals", R"({"x":5,"y":6.42})", operator_client(), 422},
+      {"POST", "/api/v1/goals", R"({"x":50,"y":7.5})", operator_client(), 422},
+      {"POST", "/api/v1/goals", R"({"x":5,"y":7.5,"planner":"voronoi"})", operator_client(), 422},
+      {"GET", "/api/v1/goals/999999", "", viewer(), 404},
+      {"DELETE", "/api/v1/goals/999999", "", operator_client(), 404},
+      {"DELETE", "/api/v1/goals/999999", "", viewer(), 403},
+      {"POST", "/api/v1/localization/pose", R"({"x":2,"y":7.5,"theta":0,"cov":[1]})",
+       operator_client(), 400},
+      {"POST", "/api/v1/localization/pose", R"({"x":2,"y":7.5,"theta":0})", viewer(), 403},
+  };
+  for (const auto& test : cases) {
+    const HttpReply reply = test.client.request(test.method, test.target, test.body);
+    EXPECT_EQ(reply.status, test.status) << test.method << " " << test.target << ": " << reply.body;
+    const std::string path = match_path(doc, test.target);
+    ASSERT_FALSE(path.empty()) << test.target;
+    const json& responses = doc.at("paths").at(path).at(lower(test.method)).at("responses");
+    EXPECT_TRUE(responses.contains(std::to_string(reply.status)))
+        << test.method << " " << path << " answers " << reply.status << " but does not document it";
+  }
+  // Under e-stop a goal is a conflict; an accepted one is 201 and can be canceled once.
+  ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", true}}).status, 200);
+  const HttpReply refused = operator_client().post("/api/v1/goals", json{{"x", 5.0}, {"y", 7.5}});
+  EXPECT_EQ(refused.status, 409) << refused.body;
+  ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", false}}).status, 200);
+  const json& goals = doc.at("paths").at("/api/v1/goals").at("post").at("responses");
+  EXPECT_TRUE(goals.contains("409"));
+  EXPECT_TRUE(goals.contains("201"));
+  const HttpReply created = operator_client().post("/api/v1/goals", json{{"x", 5.0}, {"y", 7.5}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const std::string target = "/api/v1/goals/" + std::to_string(created.json().at("id").get<int>());
+  EXPECT_EQ(operator_client().del(target).status, 200);
+  EXPECT_EQ(operator_client().del(target).status, 409);
+  EXPECT_TRUE(
+      doc.at("paths").at("/api/v1/goals/{id}").at("delete").at("responses").contains("409"));
+}
+
+TEST_F(OpenApiTest, StreamDocumentsThePathAndGoalTopics) {
+  const json doc = document();
+  const std::string description = doc.at("paths").at("/api/v1/stream").at("get").at("description");
+  EXPECT_NE(description.find("- `path`"), std::string::npos);
+  EXPECT_NE(description.find("- `goal`"), std::string::npos);
+  const json& topics =
+      doc.at("components").at("schemas").at("StreamSubscribe").at("properties").at("topics");
+  const json& names = topics.at("items").at("enum");
+  for (const char* name : {"path", "goal"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), json(name)), names.end()) << name;
+  }
 }
 
 }  // namespace
