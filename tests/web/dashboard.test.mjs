@@ -6,8 +6,12 @@
 //
 // Starts `mobotd --backend sim --port 0 --time-scale 1 --data-dir <tmp> --token <random>`, opens
 // the dashboard, and checks: map + laser drawn, keyboard teleop moves the robot, e-stop engages
-// (and teleop is refused meanwhile), the Maps and Runs tabs list items, a wrong token shows an
-// auth error, stopping the server shows "disconnected" and a restarted server is reconnected.
+// (and teleop is refused meanwhile), goal navigation (press + drag on the map sends a goal with a
+// heading, the path is drawn, the robot reaches the point at 5x sim speed; a goal in a wall shows
+// goal_in_obstacle; a plain click sends no heading and Cancel cancels; the EKF uncertainty and the
+// truth ghost are drawn), sim tools (drop and remove an obstacle, set the initial pose), the Maps
+// and Runs tabs list items, a wrong token shows an auth error, stopping the server shows
+// "disconnected" and a restarted server is reconnected.
 // Exit code 0 when every check passes. Screenshots of failures go to tests/web/out/.
 
 import { spawn } from 'node:child_process';
@@ -148,6 +152,32 @@ async function until(what, fn, timeoutMs = 5000, intervalMs = 100) {
   }
 }
 
+/** Screen (viewport) position of a map-frame point, from the app's view transform. */
+const toClient = (page, x, y) => page.evaluate(([mx, my]) => window.__mobot.mapToClient(mx, my), [x, y]);
+
+/** Press at map point `at`, drag to map point `to` (null: a plain click), `during()`, release. */
+async function pressDrag(page, at, to, during) {
+  const [x0, y0] = await toClient(page, at.x, at.y);
+  await page.mouse.move(x0, y0);
+  await page.mouse.down();
+  if (to) {
+    const [x1, y1] = await toClient(page, to.x, to.y);
+    await page.mouse.move((x0 + x1) / 2, (y0 + y1) / 2, { steps: 4 });
+    await page.mouse.move(x1, y1, { steps: 4 });
+  }
+  if (during) await during();
+  await page.mouse.up();
+}
+
+const angleDiff = (a, b) => Math.abs(Math.atan2(Math.sin(a - b), Math.cos(a - b)));
+
+async function screenshot(page, name) {
+  mkdirSync(OUT_DIR, { recursive: true });
+  const file = join(OUT_DIR, name);
+  await page.screenshot({ path: file });
+  return file;
+}
+
 const hooks = (page) => page.evaluate(() => {
   const m = window.__mobot;
   return m
@@ -160,6 +190,10 @@ const hooks = (page) => page.evaluate(() => {
         lastPose: m.lastPose,
         mapShown: m.mapShown,
         robotVisible: m.robotVisible,
+        lastGoal: m.lastGoal,
+        pathPoints: m.pathPoints,
+        goalError: m.goalError,
+        mapMode: m.mapMode,
         estop: m.estop,
         lastError: m.lastError,
         reconnects: m.reconnects,
@@ -320,6 +354,166 @@ async function main() {
       await page.waitForSelector('[data-testid=estop-state][data-engaged=false]', { timeout: 3000 });
     });
 
+    await step('goal panel, sim tools and legend are shown; the goal list is loaded', async () => {
+      await page.waitForSelector('[data-testid=goal-panel]', { state: 'visible', timeout: 3000 });
+      await page.waitForSelector('[data-testid=sim-panel]', { state: 'visible', timeout: 3000 });
+      await page.waitForSelector('[data-testid=map-legend]', { state: 'visible', timeout: 3000 });
+      const status = (await page.textContent('[data-testid=goal-status]'))?.trim();
+      const options = await page.$$eval('[data-testid=goal-controller] option', (els) => els.map((e) => `${e.value}${e.disabled ? '(off)' : ''}`));
+      if (!options.includes('lyapunov')) throw new Error(`controller options: ${options.join(', ')}`);
+      return `status "${status}", controllers ${options.join(' ')}`;
+    });
+
+    // Goal navigation runs the simulator 5x faster; the clock goes back to 1x afterwards.
+    await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 5 });
+    let goalTarget = null;
+
+    await step('Set goal: press + drag on the map sends {x, y, theta}; the path is drawn', async () => {
+      await page.click('[data-testid=view-fit]');
+      const truth = await rest(base, token, 'GET', '/api/v1/sim/truth');
+      // ~3 m east along the office corridor (y = 7.5), heading north (drag towards +y).
+      const at = { x: Math.round((truth.pose.x + 3) * 10) / 10, y: 7.5 };
+      await page.click('[data-testid=goal-set]');
+      if ((await page.evaluate(() => window.__mobot.mapMode)) !== 'goal') throw new Error('the Set goal button did not enter goal mode');
+      await page.waitForSelector('[data-testid=map-mode]', { state: 'visible', timeout: 1000 });
+      const before = (await hooks(page)).lastGoal?.id ?? 0;
+      await pressDrag(page, at, { x: at.x, y: at.y + 0.8 }, async () => {
+        await sleep(50);
+        await screenshot(page, 'goal-drag.png');
+      });
+      await page.waitForFunction((id) => (window.__mobot.lastGoal?.id ?? 0) > id, before, { timeout: 3000 });
+      await page.waitForFunction(() => window.__mobot.pathPoints > 1, null, { timeout: 3000 });
+      const id = await page.evaluate(() => window.__mobot.lastGoal.id);
+      const goal = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
+      const clickError = Math.hypot(goal.target.x - at.x, goal.target.y - at.y);
+      if (clickError > 0.05) throw new Error(`the goal target (${goal.target.x}, ${goal.target.y}) is ${clickError.toFixed(3)} m from the pressed point (${at.x}, ${at.y})`);
+      if (typeof goal.target.theta !== 'number' || angleDiff(goal.target.theta, Math.PI / 2) > 0.05) {
+        throw new Error(`the dragged heading was sent as ${goal.target.theta} (expected ~pi/2)`);
+      }
+      if ((await hooks(page)).mapMode !== null) throw new Error('goal mode is still active after the goal was sent');
+      await page.waitForFunction(() => /^(planning|active|succeeded)$/.test(document.querySelector('[data-testid=goal-status]')?.textContent?.trim() ?? ''), null, { timeout: 2000 });
+      await sleep(700);
+      await screenshot(page, 'goal-active.png');
+      goalTarget = { id, x: goal.target.x, y: goal.target.y, theta: goal.target.theta, pressed: at };
+      return `goal #${id} at (${goal.target.x.toFixed(2)}, ${goal.target.y.toFixed(2)}, ${goal.target.theta.toFixed(2)}), ${await page.evaluate(() => window.__mobot.pathPoints)} path points`;
+    });
+
+    await step('the goal succeeds: the robot stops within 0.15 m of the clicked point at the heading', async () => {
+      if (!goalTarget) throw new Error('no goal was sent');
+      const t0 = Date.now();
+      await page.waitForFunction(
+        (id) => window.__mobot.lastGoal?.id === id && /^(succeeded|failed|canceled)$/.test(window.__mobot.lastGoal.status),
+        goalTarget.id,
+        { timeout: 25_000, polling: 100 },
+      );
+      const last = await page.evaluate(() => window.__mobot.lastGoal);
+      if (last.status !== 'succeeded') throw new Error(`goal #${last.id} ended ${last.status} (${last.reason})`);
+      await page.waitForSelector('[data-testid=goal-status][data-status=succeeded]', { timeout: 2000 });
+      const panelText = (await page.textContent('[data-testid=goal-status]'))?.trim();
+      if (panelText !== 'succeeded') throw new Error(`the goal panel shows "${panelText}"`);
+      const truth = await rest(base, token, 'GET', '/api/v1/sim/truth');
+      const offTarget = Math.hypot(truth.pose.x - goalTarget.pressed.x, truth.pose.y - goalTarget.pressed.y);
+      const offHeading = angleDiff(truth.pose.theta, goalTarget.theta);
+      if (offTarget > 0.15) throw new Error(`the true pose (${truth.pose.x.toFixed(3)}, ${truth.pose.y.toFixed(3)}) is ${offTarget.toFixed(3)} m from the clicked point`);
+      if (offHeading > 0.15) throw new Error(`the true heading ${truth.pose.theta.toFixed(3)} is ${offHeading.toFixed(3)} rad from the requested ${goalTarget.theta.toFixed(3)}`);
+      if (truth.collisions > 0) throw new Error(`${truth.collisions} collision(s) on the way`);
+      const history = await page.locator('[data-testid=goal-history-item][data-status=succeeded]').count();
+      if (history < 1) throw new Error('the succeeded goal is not in the recent goals list');
+      await screenshot(page, 'goal-succeeded.png');
+      return `in ${((Date.now() - t0) / 1000).toFixed(1)} s wall; truth ${offTarget.toFixed(3)} m / ${offHeading.toFixed(3)} rad off; remaining ${(await page.textContent('[data-testid=goal-remaining]'))?.trim()}`;
+    });
+
+    await step('the EKF pose is drawn with its covariance (status shows the sigmas)', async () => {
+      const pose = (await hooks(page)).lastPose;
+      const sigma = (await page.textContent('[data-testid=status-sigma]'))?.trim() ?? '';
+      if (!/^x [\d.]+ (mm|cm) y [\d.]+ (mm|cm) θ [\d.]+°$/.test(sigma)) throw new Error(`uncertainty row shows "${sigma}"`);
+      return `${sigma}; EKF at (${pose.x.toFixed(2)}, ${pose.y.toFixed(2)})`;
+    });
+
+    await step('a goal inside a wall (key G, click) shows goal_in_obstacle', async () => {
+      await page.locator('[data-testid=map-canvas]').hover();
+      await page.keyboard.press('g');
+      if ((await page.evaluate(() => window.__mobot.mapMode)) !== 'goal') throw new Error('the G key did not enter goal mode');
+      const before = (await hooks(page)).lastGoal?.id;
+      // The corridor's south wall: y 6.35..6.5.
+      await pressDrag(page, { x: 6.0, y: 6.43 }, null);
+      await page.waitForSelector('[data-testid=goal-error]:has-text("goal_in_obstacle")', { state: 'visible', timeout: 3000 });
+      const error = await page.evaluate(() => window.__mobot.goalError);
+      if (error?.code !== 'goal_in_obstacle' || error.status !== 422) throw new Error(`goalError is ${JSON.stringify(error)}`);
+      const after = (await hooks(page)).lastGoal?.id;
+      if (after !== before) throw new Error(`a refused goal changed the current goal (#${before} -> #${after})`);
+      await screenshot(page, 'goal-refused.png');
+      return (await page.textContent('[data-testid=goal-error]'))?.replace(/\s+/g, ' ').trim();
+    });
+
+    await step('a plain click sends a goal without heading; Cancel cancels it', async () => {
+      await page.click('[data-testid=goal-set]');
+      const before = (await hooks(page)).lastGoal?.id ?? 0;
+      await pressDrag(page, { x: 12.0, y: 7.5 }, null);
+      await page.waitForFunction((id) => (window.__mobot.lastGoal?.id ?? 0) > id, before, { timeout: 3000 });
+      if (await page.isVisible('[data-testid=goal-error]')) throw new Error('the earlier error is still shown after a goal was accepted');
+      const id = await page.evaluate(() => window.__mobot.lastGoal.id);
+      const goal = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
+      if ('theta' in goal.target) throw new Error(`a plain click sent theta ${goal.target.theta}`);
+      await page.waitForSelector('[data-testid=goal-cancel]:not([disabled])', { timeout: 3000 });
+      await page.click('[data-testid=goal-cancel]');
+      await page.waitForSelector('[data-testid=goal-status][data-status=canceled]', { timeout: 3000 });
+      const after = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
+      if (after.status !== 'canceled') throw new Error(`GET /goals/${id} says ${after.status}`);
+      return `goal #${id} ${after.status}${after.reason ? ` (${after.reason})` : ''}`;
+    });
+
+    await step('sim tools: drop an obstacle (listed and drawn), remove it; set the initial pose', async () => {
+      await page.click('[data-testid=sim-obstacle]');
+      await pressDrag(page, { x: 14.0, y: 7.5 }, null);
+      const item = page.locator('[data-testid=sim-obstacle-item]').first();
+      await item.waitFor({ timeout: 3000 });
+      const obstacles = await page.evaluate(() => window.__mobot.obstacles);
+      if (obstacles.length !== 1 || Math.hypot(obstacles[0].x - 14, obstacles[0].y - 7.5) > 0.05 || obstacles[0].radius !== 0.25) {
+        throw new Error(`obstacles: ${JSON.stringify(obstacles)}`);
+      }
+      await screenshot(page, 'sim-obstacle.png');
+      await item.locator('[data-testid=sim-obstacle-remove]').click();
+      await item.waitFor({ state: 'detached', timeout: 3000 });
+      // Set the initial pose where the robot truly is, heading from a drag. The sim runs at 0.1x so
+      // the re-initialised covariance (0.25 m) may be seen before the EKF shrinks it: it often
+      // collapses within the first tick or two, so seeing it is reported, not required.
+      await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 0.1 });
+      const truth = await rest(base, token, 'GET', '/api/v1/sim/truth');
+      const heading = truth.pose.theta;
+      await page.click('[data-testid=view-robot]');
+      await page.click('[data-testid=view-zoom-in]');
+      await page.click('[data-testid=view-zoom-in]');
+      await page.click('[data-testid=sim-pose]');
+      const sawLarge = page
+        .waitForFunction(
+          () => ((window.__mobot.uncertainty?.major ?? 0) > 0.2 ? window.__mobot.uncertainty : null),
+          null,
+          { timeout: 2500, polling: 'raf' },
+        )
+        .then((handle) => handle.jsonValue(), () => null);
+      await pressDrag(page, truth.pose, { x: truth.pose.x + 0.8 * Math.cos(heading), y: truth.pose.y + 0.8 * Math.sin(heading) });
+      const large = await sawLarge;
+      if (large) await screenshot(page, 'uncertainty.png');
+      await page.waitForSelector('[data-testid=toast]:has-text("Localization re-initialised")', { timeout: 3000 });
+      // Whatever its size, the drawn ellipse is the 2-sigma ellipse of the latest pose's x-y block.
+      const drawn = await page.evaluate(() => {
+        const m = window.__mobot;
+        return { u: m.uncertainty, layer: document.querySelector('#layer-cov')?.checked };
+      });
+      if (!drawn.u || !drawn.layer || !(drawn.u.major >= drawn.u.minor) || !(drawn.u.sigmaTheta >= 0)) {
+        throw new Error(`uncertainty not drawn: ${JSON.stringify(drawn)}`);
+      }
+      const robot = await rest(base, token, 'GET', '/api/v1/robot');
+      const off = Math.hypot(robot.pose.x - truth.pose.x, robot.pose.y - truth.pose.y);
+      if (off > 0.1) throw new Error(`the EKF pose is ${off.toFixed(3)} m from where it was set`);
+      await page.click('[data-testid=view-fit]');
+      const seen = large ? `re-initialised 2σ ellipse ${large.major.toFixed(2)} x ${large.minor.toFixed(2)} m, σθ ${large.sigmaTheta.toFixed(3)} rad seen` : 'the EKF shrank the re-initialised covariance before a frame showed it';
+      return `obstacle #${obstacles[0].id} dropped and removed; pose set ${off.toFixed(3)} m from truth; ${seen}`;
+    });
+
+    await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 1 });
+
     await step('Maps tab lists at least one map with a thumbnail', async () => {
       await page.click('[data-testid=tab-maps]');
       await page.waitForSelector('[data-testid=map-item]', { timeout: 5000 });
@@ -368,8 +562,7 @@ async function main() {
       const before = (await hooks(page)).scansDrawn;
       await page.waitForFunction((n) => window.__mobot.connected && window.__mobot.scansDrawn > n + 2, before, { timeout: 5000 });
       if (!(await hooks(page)).robotVisible) throw new Error('the robot is outside the visible map view');
-      mkdirSync(OUT_DIR, { recursive: true });
-      await page.screenshot({ path: join(OUT_DIR, 'live.png') });
+      await screenshot(page, 'live.png');
     });
 
     await step('a wrong token shows an auth error instead of hanging', async () => {

@@ -1,6 +1,8 @@
 // REST client of mobotd (/api/v1). Every call carries the bearer token; errors come back as
 // ApiError with the server's {"error":{"code","message"}}.
 
+import type { Goal } from './goals';
+
 export interface Pose {
   x: number;
   y: number;
@@ -21,6 +23,20 @@ export interface RobotStatus {
   kinematics: string;
   estop: boolean;
   sensors: Record<string, SensorHealth>;
+}
+
+export interface GoalRequest {
+  x: number;
+  y: number;
+  theta?: number;
+  planner?: string;
+  controller?: string;
+}
+
+export interface SimTruth {
+  t: number;
+  pose: Pose;
+  collisions: number;
 }
 
 export interface MapInfo {
@@ -181,5 +197,26 @@ export class ApiClient {
   }
   runEvents(id: number): Promise<RunEvent[]> {
     return this.json('GET', `/api/v1/runs/${id}/events`);
+  }
+  goals(): Promise<Goal[]> {
+    return this.json('GET', '/api/v1/goals');
+  }
+  submitGoal(body: GoalRequest): Promise<Goal> {
+    return this.json('POST', '/api/v1/goals', body);
+  }
+  cancelGoal(id: number): Promise<Goal> {
+    return this.json('DELETE', `/api/v1/goals/${id}`);
+  }
+  setLocalizationPose(pose: Pose, cov?: number[]): Promise<unknown> {
+    return this.json('POST', '/api/v1/localization/pose', cov ? { ...pose, cov } : pose);
+  }
+  simTruth(): Promise<SimTruth> {
+    return this.json('GET', '/api/v1/sim/truth');
+  }
+  addObstacle(body: { x: number; y: number; radius: number; height?: number }): Promise<{ id: number }> {
+    return this.json('POST', '/api/v1/sim/obstacles', body);
+  }
+  removeObstacle(id: number): Promise<void> {
+    return this.json('DELETE', `/api/v1/sim/obstacles/${id}`);
   }
 }

@@ -8,6 +8,9 @@ import type { Pose2D } from './frames';
 import type { SonarReading } from './mapview';
 import { LivePage } from './pages/live';
 import type { PoseData } from './pages/live';
+import { covarianceEllipse, headingSigma } from './goals';
+import { NavigationPanel } from './nav';
+import type { NavError, NavMode } from './nav';
 import { MapsPage } from './pages/maps';
 import { RunsPage } from './pages/runs';
 import { StreamClient } from './stream';
@@ -35,6 +38,24 @@ export interface MobotHooks {
   readonly page: string;
   readonly lastError: string | null;
   readonly reconnects: number;
+  /** The newest goal (REST list, POST reply or `goal` topic). */
+  readonly lastGoal: { id: number; status: string; reason: string | null; replans: number } | null;
+  /** Points of the path drawn on the map. */
+  readonly pathPoints: number;
+  /** Goals the panel knows. */
+  readonly goalCount: number;
+  /** The last refused navigation request (goal, obstacle, pose), or null. */
+  readonly goalError: NavError | null;
+  /** The active map tool. */
+  readonly mapMode: NavMode | null;
+  /** Obstacles dropped from this page. */
+  readonly obstacles: { id: number; x: number; y: number; radius: number }[];
+  /** The drawn EKF uncertainty: 2-sigma ellipse semi-axes (m), its angle and sigma(theta) (rad). */
+  readonly uncertainty: { major: number; minor: number; angle: number; sigmaTheta: number | null } | null;
+  /** The map view transform: screen = origin + scale * (x, -y), CSS pixels relative to the canvas. */
+  readonly view: { scale: number; originX: number; originY: number };
+  /** Map frame -> viewport (client) CSS pixels, for mouse events. */
+  mapToClient(x: number, y: number): [number, number];
 }
 
 let token = initialToken();
@@ -43,6 +64,7 @@ let estopEngaged: boolean | null = null;
 let currentPage = 'live';
 let lastError: string | null = null;
 let connectionState: ConnectionState = 'disconnected';
+let serverStartedAt: number | null = null;
 
 const stream = new StreamClient({
   url: () => streamUrl(token),
@@ -60,13 +82,21 @@ const stream = new StreamClient({
     hello: (hello) => {
       const truth = (hello.topics ?? []).some((t) => t.name === 'truth');
       live.setTruthAvailable(truth);
+      nav.setSimAvailable(truth);
       document.body.classList.toggle('sim', truth);
       live.mapView.clearTrail(); // the server may have restarted with the robot elsewhere
     },
-    json: (topic, data) => {
+    json: (topic, data, meta) => {
       switch (topic) {
         case 'pose':
           live.onPose(data as PoseData);
+          nav.onClock(meta.t);
+          break;
+        case 'goal':
+          nav.onGoal(data);
+          break;
+        case 'path':
+          nav.onPath(data);
           break;
         case 'status':
           live.onStatus(data as RobotStatus);
@@ -80,6 +110,8 @@ const stream = new StreamClient({
           break;
         case 'events':
           live.onEvent(data as { t: number; kind: string; detail: unknown });
+          // A simulator reset removes every dropped obstacle.
+          if ((data as { kind?: string }).kind === 'sim_reset') nav.clearObstacles();
           break;
         default:
           break;
@@ -103,6 +135,8 @@ const live = new LivePage(stream, (command) => {
   if (!sent && (command.v !== 0 || command.w !== 0)) toast('Not connected: teleop is not sent', 'error');
   return sent;
 });
+const nav = new NavigationPanel(api, live.mapView, () => live.lastPose);
+nav.renderObstacles();
 const maps = new MapsPage(byId('page-maps'), api);
 const runs = new RunsPage(byId('page-runs'), api);
 
@@ -144,6 +178,37 @@ window.__mobot = {
   get reconnects() {
     return stream.reconnects;
   },
+  get lastGoal() {
+    const g = nav.store.current;
+    return g ? { id: g.id, status: g.status, reason: g.reason ?? null, replans: g.replans ?? 0 } : null;
+  },
+  get pathPoints() {
+    return live.mapView.pathPoints;
+  },
+  get goalCount() {
+    return nav.store.size;
+  },
+  get goalError() {
+    return nav.lastError;
+  },
+  get mapMode() {
+    return nav.mode;
+  },
+  get obstacles() {
+    return nav.obstacles.map((o) => ({ ...o }));
+  },
+  get uncertainty() {
+    const cov = live.lastPose?.cov;
+    const e = covarianceEllipse(cov, 2);
+    return e ? { major: e.major, minor: e.minor, angle: e.angle, sigmaTheta: headingSigma(cov) } : null;
+  },
+  get view() {
+    const v = live.mapView.view;
+    return { scale: v.scale, originX: v.originX, originY: v.originY };
+  },
+  mapToClient(x: number, y: number) {
+    return live.mapView.mapToClient(x, y);
+  },
 };
 
 // ---- connection ----
@@ -165,6 +230,7 @@ function showConnection(state: ConnectionState, detail: string): void {
   if (state === 'auth_error') showLogin('The server refused the token (401 unauthorized). Enter a valid token.');
   if (state === 'connected') {
     void loadServerInfo();
+    void nav.load();
     if (currentPage !== 'live') void refreshPage(currentPage);
   }
 }
@@ -173,6 +239,10 @@ async function loadServerInfo(): Promise<void> {
   try {
     const health = await api.health();
     byId('server-info').textContent = `${health.backend} · v${health.version}`;
+    // A server started anew (uptime went back) has none of the obstacles dropped before.
+    const startedAt = Date.now() / 1000 - health.uptime_s;
+    if (serverStartedAt !== null && Math.abs(startedAt - serverStartedAt) > 3) nav.clearObstacles();
+    serverStartedAt = startedAt;
   } catch {
     // informative only
   }
@@ -264,6 +334,8 @@ function showPage(page: string): void {
   }
   if (page !== 'live') live.teleop.releaseAll();
   live.teleop.enabled = page === 'live';
+  nav.enabled = page === 'live';
+  if (page !== 'live') nav.setMode(null);
   if (window.location.hash !== `#${page}`) window.history.replaceState(null, '', `#${page}`);
   void refreshPage(page);
 }

@@ -5,6 +5,8 @@
 
 import { mapCorners, scanEndpoints, UNKNOWN_CELL } from './frames';
 import type { LaserScan, MapGrid, Pose2D } from './frames';
+import { covarianceEllipse, dragHeading, headingSigma } from './goals';
+import type { GoalStatus } from './goals';
 import { boundsOf, ViewTransform, wheelZoomFactor } from './view';
 import type { Bounds } from './view';
 
@@ -19,6 +21,39 @@ export interface SonarReading {
 }
 
 export const FOOTPRINT_M = 0.6;
+
+/** Sigmas of the drawn uncertainty (covariance ellipse and heading wedge). */
+export const UNCERTAINTY_SIGMAS = 2;
+
+/** The goal marker: target and, when given, the requested heading. */
+export interface GoalMarker {
+  x: number;
+  y: number;
+  theta?: number;
+  status: GoalStatus;
+}
+
+export interface ObstacleMarker {
+  id: number;
+  x: number;
+  y: number;
+  radius: number;
+}
+
+/**
+ * A press-and-drag tool on the map (set goal, set pose, drop obstacle). While a tool is active a
+ * left press belongs to it instead of panning; `done` gets the press point and, when the pointer
+ * was dragged, the heading of the drag (map frame).
+ */
+export interface MapTool {
+  name: string;
+  color: string;
+  /** Whether a drag sets a heading (arrow preview). */
+  heading: boolean;
+  /** A circle of this radius (m) is previewed at the press point (obstacles). */
+  radius?: number;
+  done(point: { x: number; y: number }, heading: number | null): void;
+}
 
 const COLORS = {
   background: '#0b0f14',
@@ -37,6 +72,24 @@ const COLORS = {
   truth: '#c4b5fd',
   trajectory: '#34d399',
   text: 'rgba(226, 232, 240, 0.85)',
+  covFill: 'rgba(56, 189, 248, 0.16)',
+  covStroke: 'rgba(125, 211, 252, 0.95)',
+  wedgeFill: 'rgba(250, 204, 21, 0.22)',
+  wedgeStroke: 'rgba(250, 204, 21, 0.8)',
+  path: '#34d399',
+  pathDone: 'rgba(52, 211, 153, 0.35)',
+  obstacleFill: 'rgba(251, 146, 60, 0.35)',
+  obstacleStroke: '#fb923c',
+  error: '#f87171',
+};
+
+/** Colour of a goal status (marker, badges). */
+export const STATUS_COLORS: Record<GoalStatus, string> = {
+  planning: '#fbbf24',
+  active: '#38bdf8',
+  succeeded: '#34d399',
+  failed: '#f87171',
+  canceled: '#94a3b8',
 };
 
 /** 256-entry RGBA lookup (as little-endian u32) from cell value to colour. */
@@ -70,12 +123,20 @@ export class MapView {
   mapShown = false;
   /** Poses kept in the trail. */
   readonly trailLength = 600;
-  readonly layers = { scan: true, sonar: true, trail: true, truth: true };
+  readonly layers = { scan: true, sonar: true, trail: true, truth: true, cov: true, path: true };
 
   private readonly ctx: CanvasRenderingContext2D;
   private map: MapGrid | null = null;
   private mapImage: HTMLCanvasElement | null = null;
   private pose: Pose2D | null = null;
+  private cov: readonly number[] | null = null;
+  private path: Float64Array = new Float64Array(0);
+  private pathDone = false;
+  private goal: GoalMarker | null = null;
+  private obstacles: ObstacleMarker[] = [];
+  private errorMark: { x: number; y: number; until: number } | null = null;
+  private tool: MapTool | null = null;
+  private press: { id: number; x: number; y: number; cx: number; cy: number } | null = null;
   private truth: Pose2D | null = null;
   private scan: LaserScan | null = null;
   private scanIsNew = false;
@@ -145,8 +206,9 @@ export class MapView {
     return this.map;
   }
 
-  setPose(pose: Pose2D): void {
+  setPose(pose: Pose2D & { cov?: readonly number[] }): void {
     this.pose = pose;
+    this.cov = Array.isArray(pose.cov) && pose.cov.length === 9 ? pose.cov : null;
     const last = this.trailCount > 0 ? (this.trailStart + this.trailCount - 1) % this.trailLength : -1;
     if (last < 0 || Math.hypot(this.trail[2 * last]! - pose.x, this.trail[2 * last + 1]! - pose.y) > 0.02) {
       let slot: number;
@@ -201,6 +263,65 @@ export class MapView {
       }
     }
     this.dirty = true;
+  }
+
+  /** The current plan ([x, y] pairs); `done` draws it faded (the goal has ended). */
+  setPath(points: readonly (readonly [number, number])[], done = false): void {
+    const xy = new Float64Array(points.length * 2);
+    points.forEach((p, i) => {
+      xy[2 * i] = p[0];
+      xy[2 * i + 1] = p[1];
+    });
+    this.path = xy;
+    this.pathDone = done;
+    this.dirty = true;
+  }
+
+  get pathPoints(): number {
+    return this.path.length / 2;
+  }
+
+  setGoal(goal: GoalMarker | null): void {
+    this.goal = goal;
+    this.dirty = true;
+  }
+
+  setObstacles(obstacles: ObstacleMarker[]): void {
+    this.obstacles = obstacles;
+    this.dirty = true;
+  }
+
+  /** Marks a refused map point (e.g. a goal in a wall) for a few seconds. */
+  flashError(x: number, y: number, ms = 4000): void {
+    this.errorMark = { x, y, until: performance.now() + ms };
+    this.dirty = true;
+    window.setTimeout(() => (this.dirty = true), ms + 20);
+  }
+
+  /** Activates a press-and-drag tool (null: back to panning). */
+  setTool(tool: MapTool | null): void {
+    this.tool = tool;
+    if (this.press) {
+      try {
+        this.canvas.releasePointerCapture(this.press.id);
+      } catch {
+        // not captured
+      }
+    }
+    this.press = null;
+    this.canvas.classList.toggle('tool', !!tool);
+    this.dirty = true;
+  }
+
+  get activeTool(): string | null {
+    return this.tool?.name ?? null;
+  }
+
+  /** Map frame -> CSS pixels relative to the viewport (for the browser test). */
+  mapToClient(x: number, y: number): [number, number] {
+    const rect = this.canvas.getBoundingClientRect();
+    const [sx, sy] = this.view.toScreen(x, y);
+    return [rect.left + sx, rect.top + sy];
   }
 
   /** Whether the robot's pose is inside the visible canvas (for the browser test). */
@@ -276,8 +397,19 @@ export class MapView {
 
   private attachInput(): void {
     const canvas = this.canvas;
+    const worldOf = (e: PointerEvent): [number, number] => {
+      const rect = canvas.getBoundingClientRect();
+      return this.view.toWorld(e.clientX - rect.left, e.clientY - rect.top);
+    };
     canvas.addEventListener('pointerdown', (e) => {
       if (e.button !== 0) return;
+      if (this.tool) {
+        const [x, y] = worldOf(e);
+        this.press = { id: e.pointerId, x, y, cx: x, cy: y };
+        canvas.setPointerCapture(e.pointerId);
+        this.dirty = true;
+        return;
+      }
       this.drag = { id: e.pointerId, x: e.clientX, y: e.clientY };
       canvas.setPointerCapture(e.pointerId);
       canvas.classList.add('dragging');
@@ -285,7 +417,10 @@ export class MapView {
     canvas.addEventListener('pointermove', (e) => {
       const rect = canvas.getBoundingClientRect();
       this.cursor = this.view.toWorld(e.clientX - rect.left, e.clientY - rect.top);
-      if (this.drag && this.drag.id === e.pointerId) {
+      if (this.press && this.press.id === e.pointerId) {
+        this.press.cx = this.cursor[0];
+        this.press.cy = this.cursor[1];
+      } else if (this.drag && this.drag.id === e.pointerId) {
         this.view.panBy(e.clientX - this.drag.x, e.clientY - this.drag.y);
         this.drag.x = e.clientX;
         this.drag.y = e.clientY;
@@ -299,8 +434,25 @@ export class MapView {
         canvas.classList.remove('dragging');
       }
     };
-    canvas.addEventListener('pointerup', endDrag);
-    canvas.addEventListener('pointercancel', endDrag);
+    canvas.addEventListener('pointerup', (e) => {
+      const press = this.press;
+      if (press && press.id === e.pointerId && this.tool) {
+        const [x, y] = worldOf(e);
+        const tool = this.tool;
+        this.press = null;
+        this.dirty = true;
+        tool.done({ x: press.x, y: press.y }, tool.heading ? dragHeading(press, { x, y }, this.view.scale) : null);
+        return;
+      }
+      endDrag(e);
+    });
+    canvas.addEventListener('pointercancel', (e) => {
+      if (this.press && this.press.id === e.pointerId) {
+        this.press = null;
+        this.dirty = true;
+      }
+      endDrag(e);
+    });
     canvas.addEventListener('pointerleave', () => {
       this.cursor = null;
       this.dirty = true;
@@ -316,7 +468,9 @@ export class MapView {
       },
       { passive: false },
     );
-    canvas.addEventListener('dblclick', () => this.fit());
+    canvas.addEventListener('dblclick', () => {
+      if (!this.tool) this.fit();
+    });
   }
 
   // ---- drawing ----
@@ -345,11 +499,19 @@ export class MapView {
     if (this.layers.sonar) this.drawSonar();
     if (this.layers.scan) this.drawScan();
     if (this.overlay) this.drawOverlay(this.overlay);
+    this.drawObstacles();
+    if (this.layers.path) this.drawPath();
+    if (this.goal) this.drawGoal(this.goal);
     if (this.options.showRobot !== false) {
       if (this.layers.trail) this.drawTrail();
+      const uncertainty = this.pose && this.cov && this.layers.cov;
+      if (uncertainty) this.drawHeadingWedge(this.pose!, this.cov!);
       if (this.truth && this.layers.truth) this.drawRobot(this.truth, true);
       if (this.pose) this.drawRobot(this.pose, false);
+      if (uncertainty) this.drawCovarianceEllipse(this.pose!, this.cov!);
     }
+    this.drawErrorMark();
+    this.drawPress();
     this.drawScaleBar();
     this.drawCursor();
     this.framesDrawn++;
@@ -465,6 +627,226 @@ export class MapView {
     ctx.beginPath();
     ctx.arc(ex, ey, 5, 0, 2 * Math.PI);
     ctx.fill();
+  }
+
+  private drawPath(): void {
+    const n = this.path.length / 2;
+    if (n < 2) return;
+    const ctx = this.ctx;
+    if (this.pathDone) {
+      ctx.setLineDash([6, 5]);
+      this.drawPolyline(this.path, n, 0, COLORS.pathDone, 2);
+      ctx.setLineDash([]);
+      return;
+    }
+    // A dark casing under the line keeps it readable over the map and the scan.
+    this.drawPolyline(this.path, n, 0, 'rgba(11, 15, 20, 0.75)', 5);
+    this.drawPolyline(this.path, n, 0, COLORS.path, 2.5);
+    const v = this.view;
+    ctx.fillStyle = COLORS.path;
+    const r = 2.2;
+    ctx.beginPath();
+    for (let i = 1; i < n - 1; i++) {
+      const sx = v.toScreenX(this.path[2 * i]!);
+      const sy = v.toScreenY(this.path[2 * i + 1]!);
+      ctx.moveTo(sx + r, sy);
+      ctx.arc(sx, sy, r, 0, 2 * Math.PI);
+    }
+    ctx.fill();
+  }
+
+  private drawGoal(goal: GoalMarker): void {
+    const ctx = this.ctx;
+    const [sx, sy] = this.view.toScreen(goal.x, goal.y);
+    const color = STATUS_COLORS[goal.status] ?? COLORS.path;
+    const finished = goal.status === 'succeeded' || goal.status === 'failed' || goal.status === 'canceled';
+    const r = Math.max(7, Math.min(14, 0.18 * this.view.scale));
+    ctx.globalAlpha = finished ? 0.6 : 1;
+    // A flag-like target: ring, dot and, with a heading, an arrow.
+    ctx.lineWidth = 2.5;
+    ctx.strokeStyle = 'rgba(11, 15, 20, 0.8)';
+    ctx.beginPath();
+    ctx.arc(sx, sy, r + 1.5, 0, 2 * Math.PI);
+    ctx.stroke();
+    ctx.strokeStyle = color;
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    ctx.arc(sx, sy, r, 0, 2 * Math.PI);
+    ctx.stroke();
+    ctx.fillStyle = color;
+    ctx.beginPath();
+    ctx.arc(sx, sy, 3, 0, 2 * Math.PI);
+    ctx.fill();
+    if (goal.theta !== undefined) this.drawArrow(sx, sy, goal.theta, r + Math.max(14, 0.45 * this.view.scale), color, 2.5);
+    if (goal.status === 'failed') {
+      ctx.strokeStyle = color;
+      ctx.lineWidth = 2;
+      const k = r * 0.55;
+      ctx.beginPath();
+      ctx.moveTo(sx - k, sy - k);
+      ctx.lineTo(sx + k, sy + k);
+      ctx.moveTo(sx + k, sy - k);
+      ctx.lineTo(sx - k, sy + k);
+      ctx.stroke();
+    }
+    ctx.globalAlpha = 1;
+  }
+
+  /** An arrow from (sx, sy) along the map-frame angle `theta`, `length` pixels long. */
+  private drawArrow(sx: number, sy: number, theta: number, length: number, color: string, width: number): void {
+    const ctx = this.ctx;
+    const ux = Math.cos(theta);
+    const uy = -Math.sin(theta); // screen y is down
+    const ex = sx + ux * length;
+    const ey = sy + uy * length;
+    const head = Math.min(12, 4 + length * 0.25);
+    ctx.strokeStyle = color;
+    ctx.fillStyle = color;
+    ctx.lineWidth = width;
+    ctx.lineCap = 'round';
+    ctx.beginPath();
+    ctx.moveTo(sx, sy);
+    ctx.lineTo(ex - ux * head * 0.6, ey - uy * head * 0.6);
+    ctx.stroke();
+    ctx.lineCap = 'butt';
+    ctx.beginPath();
+    ctx.moveTo(ex, ey);
+    ctx.lineTo(ex - ux * head - uy * head * 0.5, ey - uy * head + ux * head * 0.5);
+    ctx.lineTo(ex - ux * head + uy * head * 0.5, ey - uy * head - ux * head * 0.5);
+    ctx.closePath();
+    ctx.fill();
+  }
+
+  private drawObstacles(): void {
+    if (this.obstacles.length === 0) return;
+    const ctx = this.ctx;
+    const v = this.view;
+    for (const o of this.obstacles) {
+      const [sx, sy] = v.toScreen(o.x, o.y);
+      const r = Math.max(2, o.radius * v.scale);
+      ctx.beginPath();
+      ctx.arc(sx, sy, r, 0, 2 * Math.PI);
+      ctx.fillStyle = COLORS.obstacleFill;
+      ctx.fill();
+      ctx.strokeStyle = COLORS.obstacleStroke;
+      ctx.lineWidth = 2;
+      ctx.stroke();
+      if (r > 8) {
+        ctx.fillStyle = '#fff7ed';
+        ctx.font = '600 10px system-ui, sans-serif';
+        ctx.textAlign = 'center';
+        ctx.textBaseline = 'middle';
+        ctx.fillText(String(o.id), sx, sy);
+        ctx.textAlign = 'start';
+        ctx.textBaseline = 'alphabetic';
+      }
+    }
+  }
+
+  /** A wedge of +-2 sigma(theta) around the estimated heading. */
+  private drawHeadingWedge(pose: Pose2D, cov: readonly number[]): void {
+    const ctx = this.ctx;
+    const v = this.view;
+    const [cx, cy] = v.toScreen(pose.x, pose.y);
+    const sigmaTheta = headingSigma(cov);
+    if (sigmaTheta !== null) {
+      const half = Math.min(Math.PI, UNCERTAINTY_SIGMAS * sigmaTheta);
+      const radius = Math.max(26, FOOTPRINT_M * 1.25 * v.scale);
+      ctx.beginPath();
+      ctx.moveTo(cx, cy);
+      // Screen angles are the map angles negated (y down).
+      ctx.arc(cx, cy, radius, -pose.theta - Math.max(half, 0.004), -pose.theta + Math.max(half, 0.004));
+      ctx.closePath();
+      ctx.fillStyle = COLORS.wedgeFill;
+      ctx.fill();
+      ctx.strokeStyle = COLORS.wedgeStroke;
+      ctx.lineWidth = 1;
+      ctx.stroke();
+    }
+  }
+
+  /** The 2-sigma ellipse of the x-y covariance around the estimated position. */
+  private drawCovarianceEllipse(pose: Pose2D, cov: readonly number[]): void {
+    const ctx = this.ctx;
+    const v = this.view;
+    const [cx, cy] = v.toScreen(pose.x, pose.y);
+    const ellipse = covarianceEllipse(cov, UNCERTAINTY_SIGMAS);
+    if (ellipse) {
+      // Sub-pixel uncertainty still shows as a small ring at the estimate.
+      const rx = Math.max(3, ellipse.major * v.scale);
+      const ry = Math.max(3, ellipse.minor * v.scale);
+      ctx.beginPath();
+      ctx.ellipse(cx, cy, rx, ry, -ellipse.angle, 0, 2 * Math.PI);
+      ctx.fillStyle = COLORS.covFill;
+      ctx.fill();
+      ctx.strokeStyle = COLORS.covStroke;
+      ctx.lineWidth = 1.5;
+      ctx.stroke();
+    }
+  }
+
+  private drawErrorMark(): void {
+    const mark = this.errorMark;
+    if (!mark) return;
+    if (performance.now() > mark.until) {
+      this.errorMark = null;
+      return;
+    }
+    const ctx = this.ctx;
+    const [sx, sy] = this.view.toScreen(mark.x, mark.y);
+    ctx.strokeStyle = 'rgba(11, 15, 20, 0.8)';
+    ctx.lineWidth = 5;
+    const k = 8;
+    const cross = () => {
+      ctx.beginPath();
+      ctx.moveTo(sx - k, sy - k);
+      ctx.lineTo(sx + k, sy + k);
+      ctx.moveTo(sx + k, sy - k);
+      ctx.lineTo(sx - k, sy + k);
+      ctx.stroke();
+    };
+    cross();
+    ctx.strokeStyle = COLORS.error;
+    ctx.lineWidth = 2.5;
+    cross();
+  }
+
+  /** The preview of an active press-and-drag tool. */
+  private drawPress(): void {
+    const tool = this.tool;
+    if (!tool) return;
+    const ctx = this.ctx;
+    const v = this.view;
+    const press = this.press;
+    const at = press ? [press.x, press.y] : this.cursor;
+    if (!at) return;
+    const [sx, sy] = v.toScreen(at[0]!, at[1]!);
+    ctx.strokeStyle = tool.color;
+    ctx.fillStyle = tool.color;
+    ctx.lineWidth = 2;
+    if (tool.radius !== undefined) {
+      ctx.setLineDash(press ? [] : [4, 3]);
+      ctx.beginPath();
+      ctx.arc(sx, sy, Math.max(3, tool.radius * v.scale), 0, 2 * Math.PI);
+      ctx.stroke();
+      ctx.setLineDash([]);
+    } else {
+      ctx.beginPath();
+      ctx.arc(sx, sy, press ? 6 : 4, 0, 2 * Math.PI);
+      if (press) ctx.fill();
+      else ctx.stroke();
+    }
+    if (press && tool.heading) {
+      const heading = dragHeading(press, { x: press.cx, y: press.cy }, v.scale);
+      if (heading !== null) {
+        const length = Math.hypot(press.cx - press.x, press.cy - press.y) * v.scale;
+        this.drawArrow(sx, sy, heading, Math.max(length, 20), tool.color, 2.5);
+        const label = `${((heading * 180) / Math.PI).toFixed(0)}°`;
+        ctx.font = '600 11px system-ui, sans-serif';
+        ctx.fillStyle = tool.color;
+        ctx.fillText(label, sx + 10, sy - 10);
+      }
+    }
   }
 
   private drawTrail(): void {

@@ -5,7 +5,7 @@ import { decodeBinaryFrame, FrameError, mapFromJson, scanFromJson } from './fram
 import type { FrameHeader, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
 import { backoffDelayMs, StreamStats } from './stats';
 
-export const WANTED_TOPICS = ['pose', 'odom', 'scan', 'sonar', 'map', 'status', 'events', 'truth'];
+export const WANTED_TOPICS = ['pose', 'odom', 'scan', 'sonar', 'map', 'status', 'events', 'truth', 'goal', 'path'];
 
 export type ConnectionState = 'connecting' | 'connected' | 'disconnected' | 'auth_error';
 

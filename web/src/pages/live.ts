@@ -8,6 +8,7 @@ import type { SonarReading } from '../mapview';
 import type { StreamClient } from '../stream';
 import { mountJoystick, TeleopController } from '../teleop';
 import type { Command, TeleopSource } from '../teleop';
+import { headingSigma } from '../goals';
 import { byId, clockTime, deg, detailText, fmt, h } from '../ui';
 
 export interface PoseData {
@@ -27,6 +28,12 @@ export interface RobotEvent {
 }
 
 const MAX_EVENTS = 200;
+
+/** A standard deviation in cm (mm below 1 cm would read as 0.0). */
+function cm(metres: number): string {
+  if (metres < 0.01) return `${fmt(metres * 1000, 1)} mm`;
+  return `${fmt(metres * 100, metres < 0.1 ? 1 : 0)} cm`;
+}
 
 export class LivePage {
   readonly mapView: MapView;
@@ -49,7 +56,7 @@ export class LivePage {
     byId('view-zoom-in').addEventListener('click', () => this.mapView.zoom(1.4));
     byId('view-zoom-out').addEventListener('click', () => this.mapView.zoom(1 / 1.4));
     byId('trail-clear').addEventListener('click', () => this.mapView.clearTrail());
-    for (const layer of ['scan', 'sonar', 'trail', 'truth'] as const) {
+    for (const layer of ['scan', 'sonar', 'trail', 'truth', 'path', 'cov'] as const) {
       const box = byId<HTMLInputElement>(`layer-${layer}`);
       box.addEventListener('change', () => {
         this.mapView.layers[layer] = box.checked;
@@ -148,6 +155,13 @@ export class LivePage {
       if (p) byId('st-pose').textContent = `x ${fmt(p.x)}  y ${fmt(p.y)}  θ ${deg(p.theta)}`;
       const v = this.lastPose ? { v: this.lastPose.v, w: this.lastPose.w } : this.status?.velocity;
       if (v) byId('st-vel').textContent = `v ${fmt(v.v)} m/s  w ${fmt(v.w)} rad/s`;
+      const cov = this.lastPose?.cov ?? this.status?.localization?.cov;
+      if (Array.isArray(cov) && cov.length === 9) {
+        const sx = Math.sqrt(Math.max(0, cov[0]!));
+        const sy = Math.sqrt(Math.max(0, cov[4]!));
+        const st = headingSigma(cov);
+        byId('st-sigma').textContent = `x ${cm(sx)} y ${cm(sy)} θ ${st === null ? '–' : deg(st)}`;
+      }
       if (this.truth) {
         const t = this.truth.pose;
         byId('st-truth').textContent = `x ${fmt(t.x)}  y ${fmt(t.y)}  θ ${deg(t.theta)}`;
