@@ -77,8 +77,9 @@ Robot::Robot(const Config& config, sim::World world, api::StreamHub& hub, Record
 }
 
 void Robot::start_estimation(const geometry::Pose2D& pose) {
-  // The simulator starts the robot exactly here; a real robot would get a rough pose instead.
-  localization_.reset(pose, Eigen::Matrix3d::Zero());
+  // The simulator starts the robot here, give or take how well a robot is ever placed by hand
+  // (1 cm, 1 degree): a zero covariance would claim a certainty no sensor has.
+  localization_.reset(pose, Eigen::Matrix3d(Eigen::Vector3d(1e-4, 1e-4, 3e-4).asDiagonal()));
 }
 
 void Robot::tick() {
