@@ -124,6 +124,14 @@ void BM_AStarOpen1000(benchmark::State& state) {
 }
 BENCHMARK(BM_AStarOpen1000)->Unit(benchmark::kMillisecond);
 
+// Open ground off the diagonal: a wide band of cells shares the optimal f, so most pushes land in
+// the open list's current bucket (its slow path); a guard against regressions there.
+void BM_AStarOpen1000Skewed(benchmark::State& state) {
+  static const PlanningGrid grid(1000, 1000, 0.05, {});
+  run_astar(state, grid, centre_of(grid, 0, 0), centre_of(grid, 999, 700));
+}
+BENCHMARK(BM_AStarOpen1000Skewed)->Unit(benchmark::kMillisecond);
+
 void BM_Inflation2000(benchmark::State& state) {
   static const OccupancyGrid maze = make_maze(2000, 24, 2, 0.05, 3);
   const mobot::planning::PlanningGridBuilder builder;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <queue>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "core/planning/global_planner_factory.h"
@@ -321,6 +322,164 @@ TEST(AStarPlanner, FindsItsWayThroughAMaze) {
   EXPECT_GT(result.length_m, 9 * 3.5);
   const std::vector<double> reference = dijkstra(planner, grid, {0, 0}, false);
   EXPECT_NEAR(result.cost, reference[grid.index_of({0, 40})], 1e-9);
+}
+
+// A grid of mostly free cells: `blocked` of them lethal or inscribed, `banded` in the inflation
+// band. Sparse obstacles leave long runs of equal f, which the open list must still order exactly.
+PlanningGrid sparse_grid(std::mt19937& rng, int width, int height, double blocked, double banded) {
+  PlanningGrid grid = make_grid(width, height);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::uniform_int_distribution<int> band(1, 252);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const double r = u(rng);
+      if (r < blocked) {
+        grid.set_cost({x, y}, r < blocked / 2 ? PlanningGrid::kLethal : PlanningGrid::kInscribed);
+      } else if (r < blocked + banded) {
+        grid.set_cost({x, y}, static_cast<std::uint8_t>(band(rng)));
+      }
+    }
+  }
+  return grid;
+}
+
+// The result is a legal path from start to goal whose cost is the Dijkstra optimum (to 1e-9
+// relative) and the sum of its steps.
+void expect_optimal(const AStarPlanner& planner, const PlanningGrid& grid, CellIndex start,
+                    CellIndex goal, const PlanResult& result, double reference) {
+  ASSERT_TRUE(result.ok());
+  const double tolerance = 1e-9 * std::max(1.0, reference);
+  EXPECT_NEAR(result.cost, reference, tolerance);
+  ASSERT_EQ(result.cells.front(), start);
+  ASSERT_EQ(result.cells.back(), goal);
+  for (std::size_t i = 1; i < result.cells.size(); ++i) {
+    const CellIndex a = result.cells[i - 1];
+    const CellIndex b = result.cells[i];
+    ASSERT_LE(std::max(std::abs(a.x - b.x), std::abs(a.y - b.y)), 1);
+    ASSERT_TRUE(step_allowed(grid, a, b)) << "corner cut or blocked cell";
+  }
+  EXPECT_NEAR(path_cost(planner, grid, result.cells), result.cost, tolerance);
+}
+
+TEST(AStarPlanner, MatchesDijkstraOnLargerGridsAndCostWeights) {
+  // Larger grids than the brute-force test, open and cluttered, with and without cost bands, and
+  // cost weights up to 1e6, where the open list's buckets widen to keep their count bounded (to
+  // hundreds of cells at 1e6, so a search runs mostly inside one bucket, on its exact order).
+  std::mt19937 rng(2024);
+  int compared = 0;
+  for (const double weight : {0.0, 3.0, 40.0, 1e4, 1e6}) {
+    AStarOptions options;
+    options.cost_penalty_weight = weight;
+    AStarPlanner planner(options);
+    for (const auto& [blocked, banded] : {std::pair{0.02, 0.0}, std::pair{0.25, 0.0},
+                                          std::pair{0.02, 0.05}, std::pair{0.25, 0.3}}) {
+      const PlanningGrid grid = sparse_grid(rng, 70, 45, blocked, banded);
+      std::uniform_int_distribution<int> ux(0, 69);
+      std::uniform_int_distribution<int> uy(0, 44);
+      for (int trial = 0; trial < 15; ++trial) {
+        const CellIndex start{ux(rng), uy(rng)};
+        const CellIndex goal{ux(rng), uy(rng)};
+        if (!grid.is_traversable(start) || !grid.is_traversable(goal)) continue;
+        const double reference = dijkstra(planner, grid, start, false)[grid.index_of(goal)];
+        const PlanResult result = planner.plan(grid, at(grid, start), at(grid, goal));
+        if (reference == kInf) {
+          ASSERT_FALSE(result.ok());
+          EXPECT_EQ(*result.error, PlanError::kNoPath);
+          continue;
+        }
+        ++compared;
+        expect_optimal(planner, grid, start, goal, result, reference);
+      }
+    }
+  }
+  EXPECT_GT(compared, 150);
+}
+
+TEST(AStarPlanner, ReachesEveryCellAtItsOptimalCost) {
+  // Every reachable cell as the goal: each search must pop its goal at the optimal g, a check on
+  // the open list's order that one goal per grid rarely exposes (most order slips are masked by an
+  // equally cheap detour). Weight 1e4 makes the buckets a few cells wide.
+  std::mt19937 rng(99);
+  for (const double weight : {3.0, 1e4}) {
+    AStarOptions options;
+    options.cost_penalty_weight = weight;
+    AStarPlanner planner(options);
+    for (const double blocked : {0.02, 0.25}) {
+      PlanningGrid grid = sparse_grid(rng, 40, 30, blocked, 0.05);
+      const CellIndex start{20, 15};
+      grid.set_cost(start, PlanningGrid::kFree);
+      const std::vector<double> reference = dijkstra(planner, grid, start, false);
+      int reached = 0;
+      for (std::size_t i = 0; i < reference.size(); ++i) {
+        const CellIndex goal = grid.cell_of(i);
+        if (reference[i] == kInf || !grid.is_traversable(goal)) continue;
+        const PlanResult result = planner.plan(grid, at(grid, start), at(grid, goal));
+        ASSERT_TRUE(result.ok()) << goal.x << "," << goal.y;
+        ASSERT_NEAR(result.cost, reference[i], 1e-9 * std::max(1.0, reference[i]))
+            << goal.x << "," << goal.y << " weight " << weight;
+        ++reached;
+      }
+      EXPECT_GT(reached, 500);
+    }
+  }
+}
+
+TEST(AStarPlanner, OpenGroundAtAnyAngleStaysOptimal) {
+  // Free space: whole regions share one f, the case where the tie-break on h matters and the
+  // open list sees most pushes land in the bucket being popped from.
+  const PlanningGrid grid = make_grid(90, 60);
+  AStarOptions options;
+  options.cost_penalty_weight = 0.0;
+  AStarPlanner planner(options);
+  const CellIndex start{3, 4};
+  const std::vector<double> from_start = dijkstra(planner, grid, start, false);
+  for (const CellIndex goal : {CellIndex{89, 59}, CellIndex{89, 4}, CellIndex{60, 59},
+                               CellIndex{89, 40}, CellIndex{20, 55}, CellIndex{3, 5}}) {
+    const PlanResult result = planner.plan(grid, at(grid, start), at(grid, goal));
+    expect_optimal(planner, grid, start, goal, result, from_start[grid.index_of(goal)]);
+    // The tie-break keeps the search on the band of optimal paths.
+    EXPECT_LT(result.expanded_cells, 30U * result.cells.size()) << goal.x << "," << goal.y;
+  }
+}
+
+TEST(AStarPlanner, ReusedPlannerGivesTheSameResultsAsAFreshOne) {
+  // One planner across 5000 searches (more than the 4095 its stamps' search numbers hold, so they
+  // wrap and are reset), grids of two shapes, resolutions and cell counts, searches that stop at
+  // the goal with nodes still open and searches that fail: every result equals a new planner's.
+  std::mt19937 rng(5);
+  const PlanningGrid a = random_grid(rng, 20, 15);
+  PlanningGrid b(20, 15, 0.05, {});  // as a, at another resolution
+  b.mutable_costs() = random_grid(rng, 20, 15).costs();
+  const PlanningGrid c = random_grid(rng, 15, 20);  // as many cells (state kept), another shape
+  const PlanningGrid d = random_grid(rng, 33, 9);   // another cell count: state reallocated
+  const std::vector<const PlanningGrid*> grids{&a, &b, &c};
+  AStarPlanner reused;
+  int succeeded = 0;
+  int failed = 0;
+  for (int i = 0; succeeded + failed < 5000; ++i) {
+    // The other cell count once, late (each change of cell count resets the stamps).
+    const PlanningGrid& grid =
+        succeeded + failed == 4500 ? d : *grids[static_cast<std::size_t>(i) % grids.size()];
+    std::uniform_int_distribution<int> ux(0, grid.width() - 1);
+    std::uniform_int_distribution<int> uy(0, grid.height() - 1);
+    const CellIndex start{ux(rng), uy(rng)};
+    const CellIndex goal{ux(rng), uy(rng)};
+    if (!grid.is_traversable(start) || !grid.is_traversable(goal)) continue;  // searches only
+    const PlanResult result = reused.plan(grid, at(grid, start), at(grid, goal));
+    const PlanResult fresh = AStarPlanner().plan(grid, at(grid, start), at(grid, goal));
+    ASSERT_EQ(result.ok(), fresh.ok()) << i;
+    if (!result.ok()) {
+      EXPECT_EQ(*result.error, *fresh.error) << i;
+      ++failed;
+      continue;
+    }
+    ++succeeded;
+    ASSERT_EQ(result.cost, fresh.cost) << i;
+    ASSERT_EQ(result.cells, fresh.cells) << i;
+    ASSERT_EQ(result.expanded_cells, fresh.expanded_cells) << i;
+  }
+  EXPECT_GT(succeeded, 2000);
+  EXPECT_GT(failed, 100);  // kNoPath
 }
 
 TEST(GlobalPlannerFactory, MakesPlannersByName) {
