@@ -145,8 +145,7 @@ int App::run() {
 
   const auto endpoint = http_.listen({config_.server.bind_address, config_.server.port});
   loop_->start(config_.sim.time_scale);
-  unsigned threads = std::max(2U, std::thread::hardware_concurrency());
-  if (const char* exp = std::getenv("MOBOT_EXP_IO")) threads = static_cast<unsigned>(std::atoi(exp));  // EXPERIMENT
+  const unsigned threads = std::max(2U, std::thread::hardware_concurrency());
   for (unsigned i = 0; i < threads; ++i) io_threads_.emplace_back([this] { io_.run(); });
 
   const std::string url =
