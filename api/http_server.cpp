@@ -1,14 +1,20 @@
 #include "api/http_server.h"
 
+#include <algorithm>
 #include <boost/asio/strand.hpp>
 #include <spdlog/spdlog.h>
+#include <thread>
 
 #include "api/http_session.h"
 
 namespace mobot::api {
 
 HttpServer::HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, RobotPort& port)
-    : io_(io), rest_(rest), hub_(hub), port_(port), acceptor_(boost::asio::make_strand(io)) {}
+    : io_(io), rest_(rest), hub_(hub), port_(port), acceptor_(boost::asio::make_strand(io)) {
+  // The stream sessions are written from this server's io threads; a batch is shared by as many
+  // of them as there are cores to run them.
+  hub_.set_executor(io_.get_executor(), std::max(1U, std::thread::hardware_concurrency()));
+}
 
 boost::asio::ip::tcp::endpoint HttpServer::listen(const HttpOptions& options) {
   const boost::asio::ip::tcp::endpoint endpoint{

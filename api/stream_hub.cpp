@@ -1,6 +1,7 @@
 #include "api/stream_hub.h"
 
 #include <algorithm>
+#include <boost/asio/post.hpp>
 #include <chrono>
 
 #include "api/goal_json.h"
@@ -173,30 +174,85 @@ void StreamHub::publish_truth(const SimTruth& truth) {
 
 void StreamHub::distribute(TopicId topic, const SharedFrame& frame) {
   std::lock_guard lock(mutex_);
-  for (const auto& session : sessions_) {
-    if (session->offer(topic, frame)) to_wake_.push_back(session);
+  if (sessions_->empty()) return;
+  // Flushes stalled behind a long pass must not pile up: a session would keep only the newest
+  // few frames of a topic anyway.
+  const auto same_topic = [topic](const TopicFrame& pending) { return pending.topic == topic; };
+  if (static_cast<std::size_t>(std::count_if(pending_.begin(), pending_.end(), same_topic)) >=
+      options_.max_frames_per_topic) {
+    pending_.erase(std::find_if(pending_.begin(), pending_.end(), same_topic));
+    count_dropped();
+  }
+  pending_.push_back({topic, frame});
+}
+
+// A batch on its way to the sessions. The io threads that run it take sessions from `next` until
+// none is left, so a thread busy elsewhere does not hold back the clients it would have written.
+struct StreamHub::WritePass {
+  FrameBatch frames;
+  std::shared_ptr<const SessionList> sessions;
+  std::atomic<std::size_t> next{0};
+  std::atomic<unsigned> running{0};
+};
+
+void StreamHub::flush() {
+  std::lock_guard lock(mutex_);
+  if (pass_running_ || pending_.empty()) return;
+  start_pass_locked();
+}
+
+void StreamHub::set_executor(boost::asio::any_io_executor executor, unsigned writers) {
+  std::lock_guard lock(mutex_);
+  executor_ = std::move(executor);
+  writers_ = std::max(1U, writers);
+}
+
+void StreamHub::start_pass_locked() {
+  if (!executor_ || sessions_->empty()) {
+    pending_.clear();
+    return;
+  }
+  const auto writers = static_cast<unsigned>(std::min<std::size_t>(sessions_->size(), writers_));
+  auto pass = std::make_shared<WritePass>();
+  pass->frames.swap(pending_);
+  pending_.reserve(pass->frames.capacity());
+  pass->sessions = sessions_;
+  pass->running = writers;
+  pass_running_ = true;
+  for (unsigned i = 0; i < writers; ++i) {
+    boost::asio::post(*executor_, [this, pass] {
+      run_pass(*pass);
+      if (pass->running.fetch_sub(1) == 1) finish_pass();
+    });
   }
 }
 
-void StreamHub::flush() {
-  std::vector<std::shared_ptr<StreamSession>> waking;
-  {
-    std::lock_guard lock(mutex_);
-    waking.swap(to_wake_);
+void StreamHub::run_pass(WritePass& pass) {
+  const SessionList& sessions = *pass.sessions;
+  for (std::size_t i = pass.next.fetch_add(1); i < sessions.size(); i = pass.next.fetch_add(1)) {
+    sessions[i]->deliver(pass.frames);
   }
-  for (const auto& session : waking) session->wake();
+}
+
+void StreamHub::finish_pass() {
+  std::lock_guard lock(mutex_);
+  pass_running_ = false;
+  if (!pending_.empty()) start_pass_locked();
 }
 
 void StreamHub::attach(const std::shared_ptr<StreamSession>& session) {
   std::lock_guard lock(mutex_);
-  sessions_.push_back(session);
+  auto sessions = std::make_shared<SessionList>(*sessions_);
+  sessions->push_back(session);
+  sessions_ = std::move(sessions);
   sessions_opened_.fetch_add(1, std::memory_order_relaxed);
 }
 
 void StreamHub::detach(const StreamSession* session) {
   std::lock_guard lock(mutex_);
-  std::erase_if(sessions_, [&](const auto& s) { return s.get() == session; });
-  std::erase_if(to_wake_, [&](const auto& s) { return s.get() == session; });
+  auto sessions = std::make_shared<SessionList>(*sessions_);
+  std::erase_if(*sessions, [&](const auto& s) { return s.get() == session; });
+  sessions_ = std::move(sessions);
 }
 
 void StreamHub::count_subscription(TopicId topic, bool binary, int delta) {
@@ -220,12 +276,12 @@ std::string StreamHub::hello_frame() const {
 }
 
 void StreamHub::close_all() {
-  std::vector<std::shared_ptr<StreamSession>> sessions;
+  std::shared_ptr<const SessionList> sessions;
   {
     std::lock_guard lock(mutex_);
     sessions = sessions_;
   }
-  for (const auto& session : sessions) session->close(1001, "server shutting down");
+  for (const auto& session : *sessions) session->close(1001, "server shutting down");
 }
 
 void StreamHub::count_sent(std::uint64_t frames, std::uint64_t bytes) {
@@ -237,7 +293,7 @@ std::string StreamHub::metrics_text() const {
   std::size_t clients = 0;
   {
     std::lock_guard lock(mutex_);
-    clients = sessions_.size();
+    clients = sessions_->size();
   }
   std::string out;
   out += "# HELP mobot_stream_clients WebSocket stream sessions open now.\n";

@@ -5,9 +5,11 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include <boost/asio/any_io_executor.hpp>
 #include <nlohmann/json.hpp>
 
 #include "api/frame_codec.h"
@@ -36,12 +38,22 @@ struct SharedFrame {
   std::int64_t wall_us = 0;
 };
 
+struct TopicFrame {
+  TopicId topic;
+  SharedFrame frame;
+};
+
+// The publications of one flush, in publication order.
+using FrameBatch = std::vector<TopicFrame>;
+
 class StreamSession;
 
 // Fan-out from the robot to the WebSocket sessions. Publishers (the control loop) encode each
-// message only in the encodings somebody subscribed to, hand the same bytes to every session, and
-// wake the sessions once per tick in flush(), so a client's frames of one tick leave in one write.
-// Nothing here blocks on a client: each session keeps a few frames per topic and drops the oldest.
+// message only in the encodings somebody subscribed to and collect it in a batch; flush() hands
+// the batch to the io threads in a single post per thread, and those threads walk the sessions,
+// let each take the frames it subscribed to and write them in one gathered, non-blocking write.
+// The publisher's cost is thus independent of the number of clients, and nothing here blocks on
+// a client: each session keeps a few frames per topic and drops the oldest.
 class StreamHub {
  public:
   explicit StreamHub(StreamOptions options);
@@ -59,8 +71,12 @@ class StreamHub {
   // The goal's status (on every change) and the path it follows (when planned or replanned).
   void publish_goal(double t_s, const navigation::Goal& goal);
   void publish_path(double t_s, const navigation::Goal& goal);
-  // Wakes every session that received frames since the last flush.
+  // Sends everything published since the last flush to the sessions, from the io threads.
   void flush();
+
+  // Where flush() writes to the sessions from, and how many threads may share one batch. Without
+  // an executor (a hub with no server), publications are discarded at flush.
+  void set_executor(boost::asio::any_io_executor executor, unsigned writers);
 
   void attach(const std::shared_ptr<StreamSession>& session);
   void detach(const StreamSession* session);
@@ -76,10 +92,16 @@ class StreamHub {
   std::string metrics_text() const;
 
  private:
+  using SessionList = std::vector<std::shared_ptr<StreamSession>>;
+  struct WritePass;
+
   bool wanted(TopicId topic) const;
   FrameStamp next_stamp(TopicId topic, double t_s);
   void publish_json(TopicId topic, double t_s, const nlohmann::json& data);
   void distribute(TopicId topic, const SharedFrame& frame);
+  void start_pass_locked();
+  void run_pass(WritePass& pass);
+  void finish_pass();
 
   StreamOptions options_;
   std::array<std::atomic<int>, kTopicCount> json_subscribers_{};
@@ -87,8 +109,15 @@ class StreamHub {
   std::array<std::atomic<std::uint64_t>, kTopicCount> seq_{};
 
   mutable std::mutex mutex_;  // guards everything below
-  std::vector<std::shared_ptr<StreamSession>> sessions_;
-  std::vector<std::shared_ptr<StreamSession>> to_wake_;
+  // Replaced, never modified, on attach and detach: a write pass walks its own snapshot without
+  // copying (and reference-counting) every session each tick.
+  std::shared_ptr<const SessionList> sessions_ = std::make_shared<const SessionList>();
+  FrameBatch pending_;  // published, not yet flushed
+  // One pass at a time, so that a client never gets a later tick's frames before an earlier
+  // one's; a flush during a pass leaves its frames to the next pass, which starts when this ends.
+  bool pass_running_ = false;
+  std::optional<boost::asio::any_io_executor> executor_;
+  unsigned writers_ = 1;
   std::shared_ptr<const mapping::OccupancyGrid> map_;
   std::int64_t map_id_ = 0;
   FrameStamp map_stamp_;

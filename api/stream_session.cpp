@@ -37,6 +37,11 @@ void StreamSession::start() {
   boost::system::error_code ignored;
   socket_.set_option(boost::asio::ip::tcp::no_delay(true), ignored);
   socket_.set_option(boost::asio::socket_base::keep_alive(true), ignored);
+  // Whichever io thread has frames for this client writes them at once, and a full socket buffer
+  // must make that write return, not wait. Both flags are set now, before the hub and the strand
+  // share the socket, so that no later operation changes its state.
+  socket_.non_blocking(true, ignored);
+  socket_.native_non_blocking(true, ignored);
   hub_.attach(shared_from_this());
   boost::asio::post(socket_.get_executor(), [self = shared_from_this()] {
     self->queue_control(std::make_shared<const std::string>(
@@ -50,47 +55,43 @@ void StreamSession::start() {
   });
 }
 
-bool StreamSession::offer(TopicId topic, const SharedFrame& frame) {
+void StreamSession::deliver(const FrameBatch& frames) {
+  std::unique_lock lock(mutex_);
+  if (closing_) return;
+  for (const auto& [topic, frame] : frames) take_locked(topic, frame);
+  write_locked(lock);
+}
+
+void StreamSession::take_locked(TopicId topic, const SharedFrame& frame) {
   const auto i = topic_index(topic);
-  std::lock_guard lock(mutex_);
   Subscription& subscription = subscriptions_[i];
-  if (!subscription.active || closing_) return false;
+  if (!subscription.active) return;
   const auto& bytes = subscription.binary && frame.binary ? frame.binary : frame.json;
-  if (!bytes) return false;
+  if (!bytes) return;
   if (subscription.min_interval_us > 0 &&
       frame.wall_us - subscription.last_sent_wall_us <
           static_cast<std::int64_t>(kRateTolerance * subscription.min_interval_us)) {
-    return false;
+    return;
   }
   subscription.last_sent_wall_us = frame.wall_us;
   auto& queue = topic_queues_[i];
   if (queue.size() >= hub_.options().max_frames_per_topic) {
-    queue.pop_front();
+    queue.erase(queue.begin());
     hub_.count_dropped();
   }
   queue.push_back(bytes);
-  if (writing_ || wake_pending_) return false;
-  wake_pending_ = true;
-  return true;
-}
-
-void StreamSession::wake() {
-  boost::asio::post(socket_.get_executor(), [self = shared_from_this()] {
-    {
-      std::lock_guard lock(self->mutex_);
-      self->wake_pending_ = false;
-    }
-    self->write_pending();
-  });
 }
 
 void StreamSession::close(std::uint16_t code, std::string reason) {
-  boost::asio::post(socket_.get_executor(), [self = shared_from_this(), code,
-                                             reason = std::move(reason)] {
-    self->queue_control(std::make_shared<const std::string>(encode_ws_close(code, reason)));
-    std::lock_guard lock(self->mutex_);
-    self->closing_ = true;
-  });
+  {
+    std::lock_guard lock(mutex_);
+    if (closing_) return;
+    // Nothing may follow the close frame, and queued data frames would otherwise go after it.
+    for (auto& queue : topic_queues_) queue.clear();
+    control_queue_.push_back(std::make_shared<const std::string>(encode_ws_close(code, reason)));
+    closing_ = true;
+  }
+  write_pending();
 }
 
 void StreamSession::read_more() {
@@ -279,46 +280,93 @@ void StreamSession::queue_control(std::shared_ptr<const std::string> frame) {
   write_pending();
 }
 
+bool StreamSession::gather_locked() {
+  in_flight_bytes_ = 0;
+  for (auto& frame : control_queue_) in_flight_.push_back(std::move(frame));
+  control_queue_.clear();
+  for (auto& queue : topic_queues_) {
+    if (queue.empty()) continue;
+    for (auto& frame : queue) in_flight_.push_back(std::move(frame));
+    queue.clear();
+  }
+  buffers_.clear();
+  for (const auto& frame : in_flight_) {
+    buffers_.emplace_back(frame->data(), frame->size());
+    in_flight_bytes_ += frame->size();
+  }
+  return !in_flight_.empty();
+}
+
 void StreamSession::write_pending() {
-  std::vector<boost::asio::const_buffer> buffers;
-  bool close_frame_sent = false;
-  {
-    std::lock_guard lock(mutex_);
-    if (writing_ || closed_) return;
-    for (auto& frame : control_queue_) in_flight_.push_back(std::move(frame));
-    control_queue_.clear();
-    for (auto& queue : topic_queues_) {
-      for (auto& frame : queue) in_flight_.push_back(std::move(frame));
-      queue.clear();
+  std::unique_lock lock(mutex_);
+  write_locked(lock);
+}
+
+void StreamSession::write_locked(std::unique_lock<std::mutex>& lock) {
+  // Frames queued while a write was on its way are sent by that writer when it is done.
+  while (!writing_ && !closed_) {
+    if (!gather_locked()) {
+      if (!closing_) return;
+      // Everything up to the close frame is written: release the socket and leave the hub, or the
+      // session (and its file descriptor) would live on after the client has gone.
+      lock.unlock();
+      shut_down();
+      return;
     }
-    if (in_flight_.empty() && !closing_) return;
-    close_frame_sent = in_flight_.empty();
-    if (!close_frame_sent) {
-      writing_ = true;
-      buffers.reserve(in_flight_.size());
-      for (const auto& frame : in_flight_) buffers.emplace_back(frame->data(), frame->size());
+    writing_ = true;
+    in_syscall_ = true;
+    lock.unlock();
+    // The gathered write, straight away: most of the time the socket takes all of it, with no
+    // reactor round trip and no completion handler.
+    boost::system::error_code error;
+    const std::size_t written = socket_.write_some(buffers_, error);
+    lock.lock();
+    in_syscall_ = false;
+    if (close_deferred_) {
+      close_deferred_ = false;
+      boost::asio::post(socket_.get_executor(),
+                        [self = shared_from_this()] { self->close_socket(); });
     }
+    if (error && error != boost::asio::error::would_block &&
+        error != boost::asio::error::try_again) {
+      writing_ = false;
+      in_flight_.clear();
+      lock.unlock();
+      shut_down();
+      return;
+    }
+    if (written < in_flight_bytes_) {
+      // The client is behind: the rest goes asynchronously from the strand, and the frames that
+      // arrive meanwhile wait in the bounded per-topic queues.
+      lock.unlock();
+      boost::asio::post(socket_.get_executor(),
+                        [self = shared_from_this(), written] { self->write_rest(written); });
+      return;
+    }
+    hub_.count_sent(in_flight_.size(), written);
+    writing_ = false;
+    in_flight_.clear();
   }
-  if (close_frame_sent) {
-    // Everything up to the close frame is written: release the socket and leave the hub, or the
-    // session (and its file descriptor) would live on after the client has gone.
-    shut_down();
-    return;
+}
+
+void StreamSession::write_rest(std::size_t written) {
+  std::size_t skip = written;
+  auto first = buffers_.begin();
+  while (skip >= first->size()) {
+    skip -= first->size();
+    ++first;
   }
+  *first += skip;
+  buffers_.erase(buffers_.begin(), first);
   boost::asio::async_write(
-      socket_, buffers,
-      [self = shared_from_this()](boost::system::error_code error, std::size_t bytes) {
-        std::size_t frames = 0;
-        {
-          std::lock_guard lock(self->mutex_);
-          frames = self->in_flight_.size();
-        }
-        if (!error) self->hub_.count_sent(frames, bytes);
-        self->on_written(error);
+      socket_, buffers_,
+      [self = shared_from_this(), written](boost::system::error_code error, std::size_t bytes) {
+        self->on_written(error, written + bytes);
       });
 }
 
-void StreamSession::on_written(boost::system::error_code error) {
+void StreamSession::on_written(boost::system::error_code error, std::size_t bytes) {
+  if (!error) hub_.count_sent(in_flight_.size(), bytes);
   {
     std::lock_guard lock(mutex_);
     writing_ = false;
@@ -334,13 +382,28 @@ void StreamSession::on_written(boost::system::error_code error) {
 void StreamSession::shut_down() {
   {
     std::lock_guard lock(mutex_);
-    if (closed_ && !socket_.is_open()) return;
+    if (closed_) return;
     closed_ = true;
     closing_ = true;
     for (auto& queue : topic_queues_) queue.clear();
     control_queue_.clear();
   }
   hub_.detach(this);
+  // The socket closes on the strand, where its reads are started, and never under a write_some
+  // of another thread (the descriptor could be reused by then).
+  boost::asio::post(socket_.get_executor(), [self = shared_from_this()] { self->close_socket(); });
+}
+
+void StreamSession::close_socket() {
+  {
+    std::lock_guard lock(mutex_);
+    if (socket_closed_) return;
+    if (in_syscall_) {
+      close_deferred_ = true;
+      return;
+    }
+    socket_closed_ = true;
+  }
   boost::system::error_code ignored;
   socket_.shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
   socket_.close(ignored);

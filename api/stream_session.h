@@ -18,9 +18,11 @@
 
 namespace mobot::api {
 
-// One WebSocket client of /api/v1/stream, after the HTTP upgrade. Reads client ops on its strand;
-// takes frames from the hub on any thread into small per-topic queues (dropping the oldest), and
-// sends everything pending as one gathered write.
+// One WebSocket client of /api/v1/stream, after the HTTP upgrade. Reads client ops on its strand.
+// Takes the hub's batches of frames on any io thread into small per-topic queues (dropping the
+// oldest), and sends everything pending as one gathered write: first straight away on a
+// non-blocking socket, by whichever thread has frames to send; only what the socket does not take
+// at once goes on as an asynchronous write, from the strand.
 class StreamSession : public std::enable_shared_from_this<StreamSession> {
  public:
   StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, RobotPort& port, Role role,
@@ -28,10 +30,9 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   ~StreamSession();
 
   void start();
-  // Queues the frame if this client subscribed to the topic. True when the caller must wake()
-  // the session once its batch of publications is done.
-  bool offer(TopicId topic, const SharedFrame& frame);
-  void wake();
+  // Takes the frames of the topics this client subscribed to and writes them. Any thread.
+  void deliver(const FrameBatch& frames);
+  // Sends a close frame after everything queued, then releases the connection. Any thread.
   void close(std::uint16_t code, std::string reason);
 
  private:
@@ -51,9 +52,14 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   void reply(const nlohmann::json& message);
   void reply_error(const std::string& code, const std::string& message);
   void queue_control(std::shared_ptr<const std::string> frame);
+  void take_locked(TopicId topic, const SharedFrame& frame);
   void write_pending();
-  void on_written(boost::system::error_code error);
+  void write_locked(std::unique_lock<std::mutex>& lock);
+  bool gather_locked();
+  void write_rest(std::size_t written);
+  void on_written(boost::system::error_code error, std::size_t bytes);
   void shut_down();
+  void close_socket();
   std::vector<std::string> topic_names(const nlohmann::json& request, const char* op);
 
   boost::asio::ip::tcp::socket socket_;
@@ -66,13 +72,19 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
 
   std::mutex mutex_;  // guards the subscription and outgoing state below
   std::array<Subscription, kTopicCount> subscriptions_{};
-  std::array<std::deque<std::shared_ptr<const std::string>>, kTopicCount> topic_queues_{};
+  // A few frames each (max_frames_per_topic): vectors keep their storage from tick to tick.
+  std::array<std::vector<std::shared_ptr<const std::string>>, kTopicCount> topic_queues_{};
   std::deque<std::shared_ptr<const std::string>> control_queue_;
+  // Owned by whoever set writing_: the frames being written and their buffers.
   std::vector<std::shared_ptr<const std::string>> in_flight_;
-  bool writing_ = false;
-  bool wake_pending_ = false;
-  bool closing_ = false;  // a close frame is queued: send nothing after it
-  bool closed_ = false;
+  std::vector<boost::asio::const_buffer> buffers_;
+  std::size_t in_flight_bytes_ = 0;
+  bool writing_ = false;         // a write (synchronous or asynchronous) owns in_flight_
+  bool in_syscall_ = false;      // a thread is inside write_some: the socket must not close now
+  bool close_deferred_ = false;  // close_socket() waits for that write_some to return
+  bool closing_ = false;         // a close frame is queued: send nothing after it
+  bool closed_ = false;          // shut down: write nothing more, the socket closes
+  bool socket_closed_ = false;
 };
 
 }  // namespace mobot::api

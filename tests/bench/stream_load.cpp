@@ -1,36 +1,51 @@
 // mobot_stream_load: N WebSocket clients on loopback subscribe to a running mobotd's stream and
 // timestamp every frame on receipt. Reports, per topic, frames received, frames lost (gaps in the
-// per-topic seq), publish-to-receipt latency percentiles (from the frame's wall_us), and the
-// server's CPU use over the measurement window (from /proc/PID/stat) when --pid is given.
+// per-topic seq), publish-to-receipt latency percentiles (from the frame's wall_us, stamped by the
+// server when the frame was published), and the server's CPU use over the measurement window (from
+// /proc/PID/stat) when --pid is given.
 //
-// The clients are deliberately lean (raw sockets, one io thread, no JSON parsing of bulk data) so
-// the tool measures the server rather than itself.
+// The clients are deliberately lean so the tool measures the server rather than itself: plain
+// sockets on a level-triggered epoll per reader thread, one recv per readiness into a buffer that
+// is allocated once, the receipt time taken as soon as that recv returns, and no JSON parsing of
+// bulk data. Every frame of one recv shares its receipt time: that is when they reached the client.
 #include <CLI/CLI.hpp>
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/epoll.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <boost/asio/connect.hpp>
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/read_until.hpp>
-#include <boost/asio/steady_timer.hpp>
-#include <boost/asio/streambuf.hpp>
-#include <boost/asio/write.hpp>
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <thread>
 #include <vector>
 
 namespace {
 
-using boost::asio::ip::tcp;
+// Topics the tool can attribute a frame to; the binary topic ids of the README map onto the same
+// slots by name.
+constexpr std::array<std::string_view, 12> kTopicNames{"?",     "pose",  "odom",    "scan",
+                                                       "sonar", "map",   "status",  "events",
+                                                       "truth", "cloud", "costmap", "camera"};
+constexpr std::size_t kTopicSlots = kTopicNames.size();
+constexpr std::array<std::size_t, 6> kBinaryTopicSlot{0, 3, 5, 9, 10, 11};  // by binary topic id
+
+constexpr std::size_t kInitialBuffer = 256 * 1024;
 
 std::int64_t wall_now_us() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
@@ -38,17 +53,17 @@ std::int64_t wall_now_us() {
       .count();
 }
 
+std::size_t slot_of(std::string_view name) {
+  for (std::size_t i = 1; i < kTopicSlots; ++i) {
+    if (kTopicNames[i] == name) return i;
+  }
+  return 0;
+}
+
 struct TopicStats {
   std::uint64_t frames = 0;
   std::uint64_t lost = 0;
   std::vector<std::int32_t> latency_us;
-};
-
-struct Totals {
-  std::map<std::string, TopicStats> topics;
-  bool measuring = false;
-  int connected = 0;
-  int failed = 0;
 };
 
 // Reads the numeric value after `key` in a JSON text (keys the server writes itself).
@@ -58,107 +73,98 @@ std::int64_t json_int_after(std::string_view text, std::string_view key) {
   return std::strtoll(text.data() + at + key.size(), nullptr, 10);
 }
 
-std::string json_topic(std::string_view text) {
+std::string_view json_topic(std::string_view text) {
   constexpr std::string_view kKey = R"("topic":")";
   const auto at = text.find(kKey);
   if (at == std::string_view::npos) return {};
   const auto start = at + kKey.size();
-  return std::string(text.substr(start, text.find('"', start) - start));
+  const auto end = text.find('"', start);
+  if (end == std::string_view::npos) return {};
+  return text.substr(start, end - start);
 }
 
-class Client : public std::enable_shared_from_this<Client> {
- public:
-  Client(boost::asio::io_context& io, Totals& totals, std::string request)
-      : socket_(io), totals_(totals), request_(std::move(request)) {}
-
-  void start(const tcp::endpoint& endpoint) {
-    socket_.async_connect(endpoint, [self = shared_from_this()](boost::system::error_code error) {
-      if (error) return self->fail("connect: " + error.message());
-      self->socket_.set_option(tcp::no_delay(true));
-      boost::asio::async_write(self->socket_, boost::asio::buffer(self->request_),
-                               [self](boost::system::error_code write_error, std::size_t) {
-                                 if (write_error) return self->fail("upgrade write");
-                                 self->read_handshake();
-                               });
-    });
+std::string masked_text_frame(const std::string& payload) {
+  std::string frame;
+  frame.push_back(static_cast<char>(0x81));
+  if (payload.size() < 126) {
+    frame.push_back(static_cast<char>(0x80 | payload.size()));
+  } else {
+    frame.push_back(static_cast<char>(0x80 | 126));
+    frame.push_back(static_cast<char>((payload.size() >> 8) & 0xFF));
+    frame.push_back(static_cast<char>(payload.size() & 0xFF));
   }
+  frame.append(4, '\0');  // a zero mask leaves the payload as it is
+  frame += payload;
+  return frame;
+}
+
+bool send_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t sent = ::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+    if (sent < 0 && errno == EINTR) continue;
+    if (sent <= 0) return false;
+    bytes.remove_prefix(static_cast<std::size_t>(sent));
+  }
+  return true;
+}
+
+// One stream client: its socket, the bytes of a frame not yet complete, the last seq per topic.
+class Client {
+ public:
+  explicit Client(int fd) : fd_(fd), buffer_(kInitialBuffer) {}
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+  ~Client() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+
+  int fd() const { return fd_; }
+
+  // Blocking HTTP upgrade and subscription, before the socket joins a reader's epoll.
+  std::optional<std::string> handshake(const std::string& upgrade, const std::string& subscribe) {
+    if (!send_all(fd_, upgrade)) return "upgrade write: " + std::string(std::strerror(errno));
+    std::size_t head_end = std::string_view::npos;
+    while (head_end == std::string_view::npos) {
+      if (used_ == buffer_.size()) return "handshake too long";
+      const ssize_t got = ::recv(fd_, buffer_.data() + used_, buffer_.size() - used_, 0);
+      if (got <= 0) return "handshake: connection closed";
+      used_ += static_cast<std::size_t>(got);
+      head_end = std::string_view(buffer_.data(), used_).find("\r\n\r\n");
+    }
+    const std::string_view head(buffer_.data(), head_end);
+    if (head.rfind("HTTP/1.1 101", 0) != 0) return std::string(head.substr(0, 40));
+    // Bytes read past the handshake are the first frames.
+    consume(head_end + 4);
+    if (!send_all(fd_, masked_text_frame(subscribe))) return "subscribe write";
+    return std::nullopt;
+  }
+
+  // One recv; false when the connection is gone.
+  template <typename OnFrame>
+  bool read(OnFrame&& on_frame) {
+    if (used_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);  // a frame larger than it
+    const ssize_t got = ::recv(fd_, buffer_.data() + used_, buffer_.size() - used_, 0);
+    if (got < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return true;
+    if (got <= 0) return false;
+    const std::int64_t now_us = wall_now_us();
+    used_ += static_cast<std::size_t>(got);
+    parse(now_us, on_frame);
+    return true;
+  }
+
+  std::array<std::int64_t, kTopicSlots>& last_seq() { return last_seq_; }
 
  private:
-  void fail(const std::string& why) {
-    if (!failed_) {
-      failed_ = true;
-      ++totals_.failed;
-      if (totals_.failed <= 3) std::cerr << "client failed: " << why << "\n";
-    }
+  void consume(std::size_t bytes) {
+    std::memmove(buffer_.data(), buffer_.data() + bytes, used_ - bytes);
+    used_ -= bytes;
   }
 
-  void read_handshake() {
-    boost::asio::async_read_until(
-        socket_, handshake_, "\r\n\r\n",
-        [self = shared_from_this()](boost::system::error_code error, std::size_t bytes) {
-          if (error) return self->fail("handshake: " + error.message());
-          std::string head(boost::asio::buffers_begin(self->handshake_.data()),
-                           boost::asio::buffers_begin(self->handshake_.data()) +
-                               static_cast<std::ptrdiff_t>(bytes));
-          if (head.rfind("HTTP/1.1 101", 0) != 0) return self->fail(head.substr(0, 40));
-          self->handshake_.consume(bytes);
-          // Bytes read past the handshake are the first frames.
-          const auto extra = self->handshake_.size();
-          self->buffer_.resize(extra);
-          boost::asio::buffer_copy(boost::asio::buffer(self->buffer_), self->handshake_.data());
-          ++self->totals_.connected;
-          self->send_subscribe();
-        });
-  }
-
-  void send_subscribe() {
-    subscribe_frame_ = masked_text_frame(subscribe_json_);
-    boost::asio::async_write(socket_, boost::asio::buffer(subscribe_frame_),
-                             [self = shared_from_this()](boost::system::error_code error,
-                                                         std::size_t) {
-                               if (error) return self->fail("subscribe");
-                               self->parse();
-                               self->read_more();
-                             });
-  }
-
-  static std::string masked_text_frame(const std::string& payload) {
-    std::string frame;
-    frame.push_back(static_cast<char>(0x81));
-    if (payload.size() < 126) {
-      frame.push_back(static_cast<char>(0x80 | payload.size()));
-    } else {
-      frame.push_back(static_cast<char>(0x80 | 126));
-      frame.push_back(static_cast<char>((payload.size() >> 8) & 0xFF));
-      frame.push_back(static_cast<char>(payload.size() & 0xFF));
-    }
-    frame.append(4, '\0');  // a zero mask leaves the payload as it is
-    frame += payload;
-    return frame;
-  }
-
-  void read_more() {
-    const std::size_t used = buffer_.size();
-    if (buffer_.capacity() - used < 65536) buffer_.reserve(used + 262144);
-    buffer_.resize(buffer_.capacity());
-    socket_.async_read_some(
-        boost::asio::buffer(buffer_.data() + used, buffer_.size() - used),
-        [self = shared_from_this(), used](boost::system::error_code error, std::size_t bytes) {
-          if (error) {
-            if (!self->stopped_) self->fail("read: " + error.message());
-            return;
-          }
-          self->buffer_.resize(used + bytes);
-          self->parse();
-          self->read_more();
-        });
-  }
-
-  void parse() {
-    const std::int64_t now_us = wall_now_us();
+  template <typename OnFrame>
+  void parse(std::int64_t now_us, OnFrame& on_frame) {
     std::size_t offset = 0;
     while (true) {
-      const std::size_t available = buffer_.size() - offset;
+      const std::size_t available = used_ - offset;
       if (available < 2) break;
       const auto* p = reinterpret_cast<const unsigned char*>(buffer_.data() + offset);
       const int opcode = p[0] & 0x0F;
@@ -174,15 +180,70 @@ class Client : public std::enable_shared_from_this<Client> {
         for (int i = 0; i < 8; ++i) length = (length << 8) | p[2 + i];
         header = 10;
       }
-      if (available < header + length) break;
-      on_frame(opcode, std::string_view(buffer_.data() + offset + header, length), now_us);
-      offset += header + length;
+      if (available < header + length) {
+        // Make room for a frame that does not fit at all.
+        if (header + length > buffer_.size()) buffer_.resize(header + length);
+        break;
+      }
+      on_frame(*this, opcode,
+               std::string_view(buffer_.data() + offset + header, static_cast<std::size_t>(length)),
+               now_us);
+      offset += header + static_cast<std::size_t>(length);
     }
-    buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(offset));
+    if (offset > 0) consume(offset);
   }
 
-  void on_frame(int opcode, std::string_view payload, std::int64_t now_us) {
-    std::string topic;
+  int fd_;
+  std::vector<char> buffer_;  // sized once; only a frame larger than it grows it
+  std::size_t used_ = 0;
+  std::array<std::int64_t, kTopicSlots> last_seq_{};
+};
+
+// A thread with its own epoll and its share of the clients.
+class Reader {
+ public:
+  Reader(const std::atomic<bool>& measuring, const std::atomic<bool>& stopping)
+      : measuring_(measuring), stopping_(stopping), epoll_fd_(::epoll_create1(0)) {}
+  ~Reader() { ::close(epoll_fd_); }
+
+  void add(std::unique_ptr<Client> client) {
+    epoll_event event{};
+    event.events = EPOLLIN;
+    event.data.ptr = client.get();
+    ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, client->fd(), &event);
+    clients_.push_back(std::move(client));
+  }
+
+  // Room for the latencies of a topic, so that no reallocation stalls the reader while measuring.
+  void reserve(std::size_t slot, std::size_t frames) { stats_[slot].latency_us.reserve(frames); }
+
+  void start() {
+    thread_ = std::thread([this] { run(); });
+  }
+  void join() { thread_.join(); }
+
+  std::array<TopicStats, kTopicSlots>& stats() { return stats_; }
+  int failed() const { return failed_; }
+
+ private:
+  void run() {
+    std::array<epoll_event, 256> events{};
+    while (!stopping_.load(std::memory_order_relaxed)) {
+      const int ready = ::epoll_wait(epoll_fd_, events.data(), static_cast<int>(events.size()), 20);
+      for (int i = 0; i < ready; ++i) {
+        auto* client = static_cast<Client*>(events[static_cast<std::size_t>(i)].data.ptr);
+        if (!client->read([this](Client& c, int opcode, std::string_view payload,
+                                 std::int64_t now_us) { on_frame(c, opcode, payload, now_us); })) {
+          ::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, client->fd(), nullptr);
+          if (!stopping_.load()) ++failed_;
+          if (failed_ <= 3 && !stopping_.load()) std::cerr << "client failed: connection closed\n";
+        }
+      }
+    }
+  }
+
+  void on_frame(Client& client, int opcode, std::string_view payload, std::int64_t now_us) {
+    std::size_t slot = 0;
     std::int64_t seq = -1;
     std::int64_t wall_us = -1;
     if (opcode == 0x2 && payload.size() >= 32 && payload.substr(0, 4) == "MBT1") {
@@ -191,21 +252,20 @@ class Client : public std::enable_shared_from_this<Client> {
       std::memcpy(&topic_id, payload.data() + 4, 2);
       std::memcpy(&binary_seq, payload.data() + 8, 8);
       std::memcpy(&wall_us, payload.data() + 24, 8);
-      static const std::array<const char*, 6> kNames{"?", "scan", "map", "cloud", "costmap",
-                                                     "camera"};
-      topic = topic_id < kNames.size() ? kNames[topic_id] : "?";
+      slot = topic_id < kBinaryTopicSlot.size() ? kBinaryTopicSlot[topic_id] : 0;
       seq = static_cast<std::int64_t>(binary_seq);
     } else if (opcode == 0x1) {
-      topic = json_topic(payload);
+      const std::string_view topic = json_topic(payload);
       if (topic.empty()) return;  // hello, subscribed, pong
+      slot = slot_of(topic);
       seq = json_int_after(payload, R"("seq":)");
       wall_us = json_int_after(payload, R"("wall_us":)");
     } else {
       return;
     }
-    auto& last = last_seq_[topic];
-    if (totals_.measuring) {
-      TopicStats& stats = totals_.topics[topic];
+    auto& last = client.last_seq()[slot];
+    if (measuring_.load(std::memory_order_relaxed)) {
+      TopicStats& stats = stats_[slot];
       ++stats.frames;
       if (last > 0 && seq > last + 1) stats.lost += static_cast<std::uint64_t>(seq - last - 1);
       stats.latency_us.push_back(static_cast<std::int32_t>(now_us - wall_us));
@@ -213,20 +273,31 @@ class Client : public std::enable_shared_from_this<Client> {
     last = seq;
   }
 
- public:
-  std::string subscribe_json_;
-  bool stopped_ = false;
-
- private:
-  tcp::socket socket_;
-  Totals& totals_;
-  std::string request_;
-  boost::asio::streambuf handshake_;
-  std::string subscribe_frame_;
-  std::vector<char> buffer_;
-  std::map<std::string, std::int64_t> last_seq_;
-  bool failed_ = false;
+  const std::atomic<bool>& measuring_;
+  const std::atomic<bool>& stopping_;
+  int epoll_fd_;
+  std::vector<std::unique_ptr<Client>> clients_;
+  std::array<TopicStats, kTopicSlots> stats_;
+  int failed_ = 0;
+  std::thread thread_;
 };
+
+// A connected TCP socket to 127.0.0.1:port, or -1.
+int connect_loopback(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return -1;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  const int one = 1;
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  return fd;
+}
 
 // utime + stime of a process in seconds.
 double process_cpu_s(int pid) {
@@ -251,6 +322,10 @@ double percentile(std::vector<std::int32_t>& values, double p) {
   return values[k] / 1000.0;
 }
 
+void sleep_s(double seconds) {
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -258,6 +333,7 @@ int main(int argc, char** argv) {
   int port = 8080;
   std::string token;
   int clients = 100;
+  int threads = 1;
   double seconds = 10.0;
   double warmup_s = 2.0;
   int pid = 0;
@@ -266,6 +342,9 @@ int main(int argc, char** argv) {
   cli.add_option("--port", port)->required();
   cli.add_option("--token", token)->required();
   cli.add_option("--clients", clients)->check(CLI::Range(1, 20000));
+  cli.add_option("--threads", threads,
+                 "reader threads, each with its own epoll and a share of the clients")
+      ->check(CLI::Range(1, 64));
   cli.add_option("--seconds", seconds, "measurement window");
   cli.add_option("--warmup", warmup_s, "seconds after all clients connected, before measuring");
   cli.add_option("--pid", pid, "mobotd's pid, to report its CPU use");
@@ -280,55 +359,83 @@ int main(int argc, char** argv) {
   }
   const std::string subscribe =
       R"({"op":"subscribe","topics":[)" + topic_list + R"(],"encoding":")" + encoding + "\"}";
-  const std::string upgrade = "GET /api/v1/stream?token=" + token +
-                              " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
-                              "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
-                              "Sec-WebSocket-Version: 13\r\n\r\n";
+  const std::string upgrade =
+      "GET /api/v1/stream?token=" + token +
+      " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
+      "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+      "Sec-WebSocket-Version: 13\r\n\r\n";
 
-  boost::asio::io_context io;
-  Totals totals;
-  const tcp::endpoint endpoint(boost::asio::ip::make_address("127.0.0.1"),
-                               static_cast<std::uint16_t>(port));
-  std::vector<std::shared_ptr<Client>> all;
+  std::atomic<bool> measuring{false};
+  std::atomic<bool> stopping{false};
+  std::vector<std::unique_ptr<Reader>> readers;
+  for (int i = 0; i < threads; ++i) {
+    readers.push_back(std::make_unique<Reader>(measuring, stopping));
+  }
+
+  // Up to 60 Hz per topic and client, with a margin.
+  const auto expected_frames = static_cast<std::size_t>(
+      1.25 * 60.0 * (seconds + 1.0) * static_cast<double>(clients) / static_cast<double>(threads));
+  std::stringstream names(topics);
+  for (std::string topic; std::getline(names, topic, ',');) {
+    for (auto& reader : readers) reader->reserve(slot_of(topic), expected_frames);
+  }
+
+  int connected = 0;
+  int failed = 0;
   for (int i = 0; i < clients; ++i) {
-    auto client = std::make_shared<Client>(io, totals, upgrade);
-    client->subscribe_json_ = subscribe;
-    client->start(endpoint);
-    all.push_back(client);
+    const int fd = connect_loopback(port);
+    if (fd < 0) {
+      if (++failed <= 3) std::cerr << "client failed: connect: " << std::strerror(errno) << "\n";
+      continue;
+    }
+    auto client = std::make_unique<Client>(fd);
+    if (const auto error = client->handshake(upgrade, subscribe)) {
+      if (++failed <= 3) std::cerr << "client failed: " << *error << "\n";
+      continue;
+    }
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+    readers[static_cast<std::size_t>(i % threads)]->add(std::move(client));
+    ++connected;
   }
-
-  const auto run_for = [&io](double s) {
-    io.restart();
-    io.run_for(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s)));
-  };
-  const auto connect_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (totals.connected + totals.failed < clients &&
-         std::chrono::steady_clock::now() < connect_deadline) {
-    run_for(0.1);
-  }
-  run_for(warmup_s);
+  for (auto& reader : readers) reader->start();
+  sleep_s(warmup_s);
 
   const double server_cpu_before = pid > 0 ? process_cpu_s(pid) : 0.0;
   const double own_cpu_before = process_cpu_s(static_cast<int>(getpid()));
   const auto started = std::chrono::steady_clock::now();
-  totals.measuring = true;
-  run_for(seconds);
-  totals.measuring = false;
+  measuring = true;
+  sleep_s(seconds);
+  measuring = false;
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double server_cpu_s = pid > 0 ? process_cpu_s(pid) - server_cpu_before : 0.0;
   const double own_cpu_s = process_cpu_s(static_cast<int>(getpid())) - own_cpu_before;
-  for (auto& client : all) client->stopped_ = true;
+  stopping = true;
+  for (auto& reader : readers) reader->join();
 
-  std::cout << "clients " << clients << " connected " << totals.connected << " failed "
-            << totals.failed << " window_s " << elapsed_s << "\n";
-  bool ok = totals.failed == 0 && totals.connected == clients;
-  for (auto& [topic, stats] : totals.topics) {
+  std::array<TopicStats, kTopicSlots> totals;
+  for (auto& reader : readers) {
+    failed += reader->failed();
+    for (std::size_t slot = 0; slot < kTopicSlots; ++slot) {
+      auto& from = reader->stats()[slot];
+      totals[slot].frames += from.frames;
+      totals[slot].lost += from.lost;
+      totals[slot].latency_us.insert(totals[slot].latency_us.end(), from.latency_us.begin(),
+                                     from.latency_us.end());
+    }
+  }
+
+  std::cout << "clients " << clients << " connected " << connected << " failed " << failed
+            << " window_s " << elapsed_s << " reader_threads " << threads << "\n";
+  const bool ok = failed == 0 && connected == clients;
+  for (std::size_t slot = 0; slot < kTopicSlots; ++slot) {
+    TopicStats& stats = totals[slot];
+    if (stats.frames == 0) continue;
     const double rate_hz = static_cast<double>(stats.frames) / elapsed_s / clients;
     const double loss_pct =
         100.0 * static_cast<double>(stats.lost) / static_cast<double>(stats.frames + stats.lost);
-    std::cout << "topic " << topic << " frames " << stats.frames << " per_client_hz " << rate_hz
-              << " lost " << stats.lost << " loss_pct " << loss_pct << " latency_ms p50 "
+    std::cout << "topic " << kTopicNames[slot] << " frames " << stats.frames << " per_client_hz "
+              << rate_hz << " lost " << stats.lost << " loss_pct " << loss_pct << " latency_ms p50 "
               << percentile(stats.latency_us, 0.50) << " p99 " << percentile(stats.latency_us, 0.99)
               << " max " << percentile(stats.latency_us, 1.0) << "\n";
   }
