@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/geometry/pose2d.h"
+#include "core/perception/tilt_sweep.h"
 
 namespace mobot::sim {
 
@@ -27,6 +28,12 @@ struct RobotProfile {
   double laser_range_min_m = 0.0;
   double laser_range_max_m = 0.0;
   double laser_range_sigma_m = 0.0;
+
+  // The laser nods about its left-right axis for 3D sweeps (R1): pitch range, and the tilt speed
+  // loop's +/- 5 % error as a ripple of this period.
+  perception::TiltRange tilt_range;
+  double tilt_speed_ripple_fraction = 0.05;
+  double tilt_ripple_period_s = 1.7;
 
   // Sonars sit in the laser plane (the simulator casts both in the same slice of the world).
   std::vector<geometry::Pose2D> sonars_in_base;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/kinematics/diff_drive.h"
+#include "drivers/sim/tilted_fan.h"
 #include "drivers/sim/world_slice.h"
 
 namespace mobot::sim {
@@ -22,7 +23,7 @@ constexpr double kNoReturnBeyondMax_m = 1.0;
 // cylinder's surface sees it.
 constexpr double kLandmarkRadius_m = 0.05;
 
-enum class Stream : std::uint32_t { kDrive = 1, kLaser, kSonar, kCompass, kCamera };
+enum class Stream : std::uint32_t { kDrive = 1, kLaser, kSonar, kCompass, kCamera, kTilt };
 
 std::mt19937_64 random_stream(std::uint64_t seed, Stream stream) {
   std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -64,6 +65,7 @@ Simulator::Simulator(World world, RobotProfile profile, std::uint64_t seed)
     : world_(std::move(world)),
       profile_(validated(std::move(profile))),
       laser_plane_(slice_at_height(world_, profile_.laser_height_m)),
+      walls_(world_.floor),
       body_(world_, profile_.footprint_length_m, profile_.footprint_width_m, profile_.height_m) {
   reset(world_.start, seed);
 }
@@ -83,6 +85,7 @@ void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
   sonar_rng_ = random_stream(seed, Stream::kSonar);
   compass_rng_ = random_stream(seed, Stream::kCompass);
   camera_rng_ = random_stream(seed, Stream::kCamera);
+  tilt_rng_ = random_stream(seed, Stream::kTilt);
   // Start the PID error in its stationary distribution.
   left_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
   right_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
@@ -280,6 +283,39 @@ msgs::LaserScan Simulator::read_laser() {
             ? std::max(0.0, hit_m + gaussian(laser_rng_, profile_.laser_range_sigma_m))
             : profile_.laser_range_max_m + kNoReturnBeyondMax_m;
     scan.ranges_m.push_back(static_cast<float>(range_m));
+  }
+  return scan;
+}
+
+msgs::TiltScan Simulator::read_tilt_laser(double true_pitch_rad, double step_rad) {
+  if (!(step_rad > 0.0) || !std::isfinite(true_pitch_rad)) {
+    throw std::invalid_argument("tilt laser: the step must be positive and the pitch finite");
+  }
+  msgs::TiltScan scan;
+  scan.stamp_s = time_s_;
+  scan.pitch_rad = true_pitch_rad;
+  scan.bearing_min_rad = 0.0;
+  scan.bearing_step_rad = step_rad;
+  scan.range_min_m = static_cast<float>(profile_.laser_range_min_m);
+  scan.range_max_m = static_cast<float>(profile_.laser_range_max_m);
+  scan.sensor_in_base = profile_.laser_in_base;
+  scan.sensor_height_m = profile_.laser_height_m;
+
+  const auto beams = static_cast<std::size_t>(std::lround(std::numbers::pi / step_rad)) + 1;
+  std::vector<double> hits_m(beams);
+  std::vector<Surface> surfaces(beams);
+  const TiltedFan fan{geometry::compose(pose_, profile_.laser_in_base), profile_.laser_height_m,
+                      true_pitch_rad, 0.0, step_rad, profile_.laser_range_max_m};
+  cast_tilted_fan(fan, walls_, world_.boxes, obstacles_, hits_m, surfaces);
+  scan.ranges_m.reserve(beams);
+  scan.intensities.reserve(beams);
+  for (std::size_t k = 0; k < beams; ++k) {
+    const double range_m =
+        std::isfinite(hits_m[k])
+            ? std::max(0.0, hits_m[k] + gaussian(tilt_rng_, profile_.laser_range_sigma_m))
+            : profile_.laser_range_max_m + kNoReturnBeyondMax_m;
+    scan.ranges_m.push_back(static_cast<float>(range_m));
+    scan.intensities.push_back(surface_intensity(surfaces[k]));
   }
   return scan;
 }

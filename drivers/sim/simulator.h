@@ -12,6 +12,7 @@
 #include "core/msgs/landmark_bearing.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/sonar_ring.h"
+#include "core/msgs/tilt_scan.h"
 #include "core/msgs/twist.h"
 #include "core/msgs/wheel_encoders.h"
 #include "drivers/sim/body_collider.h"
@@ -66,6 +67,10 @@ class Simulator {
   // Ray cast in the laser plane against walls, boxes whose z range contains the laser height and
   // obstacles at least that tall; gaussian range noise. No return reads range_max_m + 1.
   msgs::LaserScan read_laser();
+  // The nodding laser at its true pitch (the caller assigns the pitch the scan reports): a 180 deg
+  // fan at step_rad in the tilted plane, cast in 3D against the floor, the full-height walls, the
+  // boxes and the obstacles, with the 2D laser's range noise and a reflectance per surface.
+  msgs::TiltScan read_tilt_laser(double true_pitch_rad, double step_rad);
   // Per sonar the nearest echo across its cone (several rays); range_max_m when nothing echoes.
   msgs::SonarRing read_sonar();
   // True heading plus gaussian noise, wrapped.
@@ -115,6 +120,7 @@ class Simulator {
   World world_;
   RobotProfile profile_;
   RayCaster laser_plane_;
+  RayCaster walls_;  // the floor plan alone: walls are full height for the nodding laser
   BodyCollider body_;
 
   geometry::Pose2D pose_;
@@ -134,6 +140,7 @@ class Simulator {
   std::mt19937_64 sonar_rng_;
   std::mt19937_64 compass_rng_;
   std::mt19937_64 camera_rng_;
+  std::mt19937_64 tilt_rng_;
 };
 
 }  // namespace mobot::sim
