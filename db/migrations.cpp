@@ -57,7 +57,32 @@ CREATE TABLE tokens (
 );
 )sql";
 
-constexpr std::array<std::string_view, 1> kMigrations{kInitialSchema};
+// 3D sweeps (tilting laser): the cloud as float32 x, y, z, intensity per point (little-endian),
+// and the IPaBD obstacle map derived from it as occupancy cells.
+constexpr std::string_view kSweeps = R"sql(
+CREATE TABLE sweeps (
+  id INTEGER PRIMARY KEY,
+  run_id INTEGER REFERENCES runs (id) ON DELETE SET NULL,
+  status TEXT NOT NULL CHECK (status IN ('running', 'done', 'failed')),
+  reason TEXT,
+  period_s REAL NOT NULL,
+  step_deg REAL NOT NULL,
+  scans INTEGER NOT NULL CHECK (scans > 0),
+  started_t REAL NOT NULL,
+  ended_t REAL,
+  created_unix_s REAL NOT NULL,
+  points INTEGER NOT NULL DEFAULT 0,
+  cloud BLOB,
+  map_width INTEGER,
+  map_height INTEGER,
+  map_resolution_m REAL,
+  map_origin_x REAL,
+  map_origin_y REAL,
+  map_cells BLOB
+);
+)sql";
+
+constexpr std::array<std::string_view, 2> kMigrations{kInitialSchema, kSweeps};
 
 }  // namespace
 
