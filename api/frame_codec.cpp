@@ -80,6 +80,34 @@ std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyG
   return out;
 }
 
+std::string encode_binary_cloud(const FrameStamp& stamp, const CloudChunk& chunk,
+                                std::span<const perception::CloudPoint> points) {
+  static_assert(sizeof(perception::CloudPoint) == 16, "x, y, z, intensity as four float32");
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + 32 + points.size() * sizeof(perception::CloudPoint));
+  append_header(out, topic_spec(TopicId::kCloud).binary_id, stamp);
+  append<std::uint32_t>(out, chunk.sweep_id);
+  append<std::uint32_t>(out, chunk.first_point);
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(points.size()));
+  append<std::uint32_t>(out, chunk.last ? 1U : 0U);
+  append<std::uint32_t>(out, chunk.scans_done);
+  append<std::uint32_t>(out, chunk.scans_total);
+  append<std::uint32_t>(out, 0);
+  append<std::uint32_t>(out, 0);
+  out.append(reinterpret_cast<const char*>(points.data()),
+             points.size() * sizeof(perception::CloudPoint));
+  return out;
+}
+
+nlohmann::json cloud_json(const CloudChunk& chunk, std::span<const perception::CloudPoint> points) {
+  nlohmann::json xyzi = nlohmann::json::array();
+  for (const auto& p : points) xyzi.push_back({p.x_m, p.y_m, p.z_m, p.intensity});
+  return {{"sweep_id", chunk.sweep_id}, {"first", chunk.first_point},
+          {"count", points.size()},     {"last", chunk.last},
+          {"scans_done", chunk.scans_done}, {"scans_total", chunk.scans_total},
+          {"points", std::move(xyzi)}};
+}
+
 nlohmann::json pose_json(const geometry::Pose2D& pose) {
   return {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}};
 }

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -13,6 +14,7 @@
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
 #include "core/msgs/sonar_ring.h"
+#include "core/perception/point_cloud.h"
 
 namespace mobot::api {
 
@@ -33,6 +35,19 @@ std::string encode_binary_scan(const FrameStamp& stamp, const msgs::LaserScan& s
                                const geometry::Pose2D& sensor_in_map);
 std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyGrid& grid,
                               std::int64_t map_id);
+
+// Where a chunk of a sweep's cloud belongs: README "Cloud body".
+struct CloudChunk {
+  std::uint32_t sweep_id = 0;
+  std::uint32_t first_point = 0;  // index of the chunk's first point within the sweep
+  bool last = false;              // the sweep's last chunk
+  std::uint32_t scans_done = 0;
+  std::uint32_t scans_total = 0;
+};
+
+std::string encode_binary_cloud(const FrameStamp& stamp, const CloudChunk& chunk,
+                                std::span<const perception::CloudPoint> points);
+nlohmann::json cloud_json(const CloudChunk& chunk, std::span<const perception::CloudPoint> points);
 
 nlohmann::json pose_json(const geometry::Pose2D& pose);
 nlohmann::json scan_json(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);

@@ -124,6 +124,7 @@ Response RestApi::route(const Request& request, const Segments& path) {
   if (resource == "tokens") return route_tokens(request, path);
   if (resource == "goals") return route_goals(request, path);
   if (resource == "localization") return route_localization(request, path);
+  if (resource == "sweeps") return route_sweeps(request, path);
   if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
   if (resource == "robot") {
     if (method != http::verb::get) method_not_allowed();

@@ -46,6 +46,7 @@ class RestApi {
   Response route_tokens(const Request& request, const Segments& path);
   Response route_goals(const Request& request, const Segments& path);
   Response route_localization(const Request& request, const Segments& path);
+  Response route_sweeps(const Request& request, const Segments& path);
   Response serve_static(const Request& request, std::string_view path) const;
   Role require_role(const Request& request, Role needed) const;
 

@@ -13,6 +13,7 @@
 #include "core/mapping/occupancy_grid.h"
 #include "core/msgs/twist.h"
 #include "core/navigation/goal.h"
+#include "core/perception/point_cloud.h"
 
 namespace mobot::api {
 
@@ -103,6 +104,24 @@ struct GoalRequest {
   std::string controller = "lyapunov";
 };
 
+struct SweepRequest {
+  double period_s = 10.0;  // 10 | 42
+  double step_deg = 1.0;   // 1 | 0.5 | 0.25
+};
+
+struct SweepInfo {
+  std::int64_t id = 0;
+  std::string status;  // running | done | failed
+  std::string reason;  // why it failed
+  double period_s = 0.0;
+  double step_deg = 0.0;
+  int scans = 0;
+  int scans_done = 0;
+  std::int64_t points = 0;
+  double started_t = 0.0;
+  std::optional<double> ended_t;
+};
+
 class RobotPort {
  public:
   virtual ~RobotPort() = default;
@@ -142,6 +161,14 @@ class RobotPort {
   virtual std::pair<std::int64_t, std::string> create_token(Role role, const std::string& label) = 0;
   virtual std::vector<TokenInfo> list_tokens() const = 0;
   virtual bool revoke_token(std::int64_t id) = 0;
+
+  // 3D sweeps. start_sweep: ApiError 400 invalid_mode (not a Table 2.1 mode), 409 sweep_running.
+  virtual SweepInfo start_sweep(const SweepRequest& request) = 0;
+  virtual std::vector<SweepInfo> list_sweeps() const = 0;
+  virtual std::optional<SweepInfo> find_sweep(std::int64_t id) const = 0;
+  // ApiError 404 unknown_sweep, 409 sweep_not_done (running or failed).
+  virtual perception::PointCloud sweep_cloud(std::int64_t id) const = 0;
+  virtual mapping::OccupancyGrid sweep_obstacle_map(std::int64_t id) const = 0;
 
   virtual bool is_simulated() const = 0;
   // The simulator endpoints; only called when is_simulated().

@@ -91,6 +91,21 @@ void StreamHub::publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D
   if (frame.json || frame.binary) distribute(TopicId::kScan, frame);
 }
 
+void StreamHub::publish_cloud(double t_s, const CloudChunk& chunk,
+                              std::span<const perception::CloudPoint> points) {
+  const FrameStamp stamp = next_stamp(TopicId::kCloud, t_s);
+  const auto i = topic_index(TopicId::kCloud);
+  SharedFrame frame;
+  frame.wall_us = stamp.wall_us;
+  if (json_subscribers_[i].load(std::memory_order_relaxed) > 0) {
+    frame.json = as_text_frame(encode_json_frame("cloud", stamp, cloud_json(chunk, points)));
+  }
+  if (binary_subscribers_[i].load(std::memory_order_relaxed) > 0) {
+    frame.binary = as_binary_frame(encode_binary_cloud(stamp, chunk, points));
+  }
+  if (frame.json || frame.binary) distribute(TopicId::kCloud, frame);
+}
+
 void StreamHub::publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map) {
   if (!wanted(TopicId::kSonar)) {
     next_stamp(TopicId::kSonar, ring.stamp_s);

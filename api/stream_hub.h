@@ -68,6 +68,9 @@ class StreamHub {
   void publish_status(const RobotSnapshot& snapshot);
   void publish_event(double t_s, const std::string& kind, const nlohmann::json& detail);
   void publish_truth(const SimTruth& truth);
+  // A chunk of a running sweep's cloud (map frame).
+  void publish_cloud(double t_s, const CloudChunk& chunk,
+                     std::span<const perception::CloudPoint> points);
   // The goal's status (on every change) and the path it follows (when planned or replanned).
   void publish_goal(double t_s, const navigation::Goal& goal);
   void publish_path(double t_s, const navigation::Goal& goal);

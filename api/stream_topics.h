@@ -18,9 +18,10 @@ enum class TopicId : std::uint8_t {
   kEvents,
   kTruth,
   kPath,
-  kGoal
+  kGoal,
+  kCloud
 };
-inline constexpr std::size_t kTopicCount = 10;
+inline constexpr std::size_t kTopicCount = 11;
 
 struct TopicSpec {
   TopicId id;
@@ -40,6 +41,7 @@ inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
     {TopicId::kTruth, "truth", 0, true},
     {TopicId::kPath, "path", 0, false},
     {TopicId::kGoal, "goal", 0, false},
+    {TopicId::kCloud, "cloud", 3, false},
 }};
 
 inline constexpr const TopicSpec& topic_spec(TopicId id) {

@@ -72,6 +72,7 @@ App::App(Config config)
       maps_(database_),
       runs_(database_),
       tokens_(database_),
+      sweep_store_(database_),
       started_(std::chrono::steady_clock::now()),
       hub_(stream_options(config_)),
       rest_(*this, hub_, {web_dir_of(config_), MOBOT_VERSION}),
@@ -92,6 +93,7 @@ App::App(Config config)
   const std::int64_t run_id = runs_.start_run(run_name, unix_now_s());
   recorder_ = std::make_unique<Recorder>(runs_, run_id, config_.recorder.flush_period_ms);
   robot_ = std::make_unique<Robot>(config_, std::move(world), hub_, *recorder_);
+  sweeps_ = std::make_unique<Sweeps>(config_, sweep_store_, *robot_, *recorder_, hub_);
   loop_ = std::make_unique<ControlLoop>(robot_->period_s(), [this] { robot_->tick(); });
   publish_active_map();
 }
@@ -168,6 +170,7 @@ void App::shut_down() {
   loop_->stop();
   robot_->halt();
   http_.stop();
+  sweeps_->stop();  // records its last event: before the recorder stops
   hub_.close_all();
   recorder_->stop(unix_now_s());
   // Give sessions a moment to send their close frames, then stop the network threads.

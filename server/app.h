@@ -18,11 +18,13 @@
 #include "db/database.h"
 #include "db/map_store.h"
 #include "db/run_store.h"
+#include "db/sweep_store.h"
 #include "db/token_store.h"
 #include "server/config.h"
 #include "server/control_loop.h"
 #include "server/recorder.h"
 #include "server/robot.h"
+#include "server/sweeps.h"
 
 namespace mobot::server {
 
@@ -67,6 +69,18 @@ class App final : public api::RobotPort {
   std::vector<api::TokenInfo> list_tokens() const override;
   bool revoke_token(std::int64_t id) override;
 
+  api::SweepInfo start_sweep(const api::SweepRequest& request) override {
+    return sweeps_->start(request);
+  }
+  std::vector<api::SweepInfo> list_sweeps() const override { return sweeps_->list(); }
+  std::optional<api::SweepInfo> find_sweep(std::int64_t id) const override {
+    return sweeps_->find(id);
+  }
+  perception::PointCloud sweep_cloud(std::int64_t id) const override { return sweeps_->cloud(id); }
+  mapping::OccupancyGrid sweep_obstacle_map(std::int64_t id) const override {
+    return sweeps_->obstacle_map(id);
+  }
+
   bool is_simulated() const override { return config_.backend == "sim"; }
   std::vector<api::WorldInfo> list_worlds() const override;
   api::SimTruth sim_truth() const override { return robot_->truth(); }
@@ -88,10 +102,12 @@ class App final : public api::RobotPort {
   db::MapStore maps_;
   db::RunStore runs_;
   db::TokenStore tokens_;
+  db::SweepStore sweep_store_;
   std::chrono::steady_clock::time_point started_;
   api::StreamHub hub_;
   std::unique_ptr<Recorder> recorder_;
   std::unique_ptr<Robot> robot_;
+  std::unique_ptr<Sweeps> sweeps_;
   std::unique_ptr<ControlLoop> loop_;
   api::RestApi rest_;
   boost::asio::io_context io_;

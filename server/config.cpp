@@ -63,6 +63,7 @@ class Reader {
   template <class T>
   static std::string type_name() {
     if constexpr (std::is_same_v<T, std::string>) return "a string";
+    if constexpr (std::is_same_v<T, bool>) return "true or false";
     if constexpr (std::is_floating_point_v<T>) return "a number";
     return "an integer";
   }
@@ -128,6 +129,7 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"navigation",
        {"goal_tolerance_m", "goal_tolerance_rad", "max_linear_mps", "inscribed_radius_m",
         "avoidance_distance_m"}},
+      {"sweeps", {"obstacle_layer", "floor_tolerance_m", "max_range_m", "pdbs_c0_m", "pdbs_c1"}},
       {"recorder", {"trajectory_rate_hz", "flush_period_ms"}},
       {"stream", {"max_frames_per_topic"}},
   };
@@ -213,6 +215,13 @@ Config load_config(const std::filesystem::path& file) {
   reader.read_number("navigation", "inscribed_radius_m", navigation.inscribed_radius_m, 0.05, 2.0);
   reader.read_number("navigation", "avoidance_distance_m", navigation.avoidance_distance_m, 0.1,
                      4.0);
+
+  SweepsSection& sweeps = config.sweeps;
+  reader.read("sweeps", "obstacle_layer", sweeps.obstacle_layer);
+  reader.read_number("sweeps", "floor_tolerance_m", sweeps.floor_tolerance_m, 0.0, 0.5);
+  reader.read_number("sweeps", "max_range_m", sweeps.max_range_m, 1.0, 40.0);
+  reader.read_number("sweeps", "pdbs_c0_m", sweeps.pdbs_c0_m, 0.0, 2.0);
+  reader.read_number("sweeps", "pdbs_c1", sweeps.pdbs_c1, 0.0, 1.0);
 
   reader.read_number("recorder", "trajectory_rate_hz", config.recorder.trajectory_rate_hz, 10.0,
                      100.0);

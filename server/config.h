@@ -63,6 +63,17 @@ struct NavigationSection {
   double avoidance_distance_m = 0.7;  // C4's d0
 };
 
+// 3D sweeps with the tilting laser and their IPaBD obstacle maps (ALGORITHMS.md R1, P1, P2).
+struct SweepsSection {
+  // The IPaBD results merge into the planning map as the 3D-obstacle layer; false plans on the 2D
+  // map alone (the "2D trap" of P2: a beam under the robot's height is invisible to it).
+  bool obstacle_layer = true;
+  double floor_tolerance_m = 0.05;
+  double max_range_m = 8.0;
+  double pdbs_c0_m = 0.1;
+  double pdbs_c1 = 0.05;
+};
+
 struct RecorderSection {
   double trajectory_rate_hz = 20.0;
   int flush_period_ms = 200;
@@ -82,6 +93,7 @@ struct Config {
   OdometrySection odometry;
   LocalizationSection localization;
   NavigationSection navigation;
+  SweepsSection sweeps;
   RecorderSection recorder;
   StreamSection stream;
 };

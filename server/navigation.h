@@ -28,8 +28,15 @@ class Navigation {
  public:
   explicit Navigation(const Config& config);
 
-  // Inflates the new active map for planning. Thread-safe; the caller then ends the active goal.
-  void set_map(const mapping::OccupancyGrid& map) { worker_.set_map(map); }
+  // Inflates the new active map for planning and returns its generation. Thread-safe; the caller
+  // then ends the active goal.
+  std::uint64_t set_map(const mapping::OccupancyGrid& map) { return worker_.set_map(map); }
+  // Plans with the 3D-obstacle layer from now on, unless the map changed since `map_generation`.
+  // Thread-safe.
+  bool set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
+                          std::uint64_t map_generation) {
+    return worker_.set_obstacle_layer(std::move(layer), map_generation);
+  }
 
   // Plans from `start` to the request's target on the worker, with the obstacles the laser saw
   // last; wait on the future without holding the Robot's mutex.

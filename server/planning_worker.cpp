@@ -12,12 +12,31 @@ PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options)
 
 PlanningWorker::~PlanningWorker() { pool_.join(); }
 
-void PlanningWorker::set_map(const mapping::OccupancyGrid& map) {
+std::uint64_t PlanningWorker::set_map(const mapping::OccupancyGrid& map) {
   auto copy = std::make_shared<const mapping::OccupancyGrid>(map);
   auto grid = std::make_shared<const planning::PlanningGrid>(builder_.build(*copy));
   std::lock_guard lock(mutex_);
   map_ = std::move(copy);
+  layer_.reset();
   static_grid_ = std::move(grid);
+  return ++generation_;
+}
+
+bool PlanningWorker::set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
+                                        std::uint64_t map_generation) {
+  std::shared_ptr<const mapping::OccupancyGrid> map;
+  {
+    std::lock_guard lock(mutex_);
+    if (map_generation != generation_ || !map_) return false;
+    map = map_;
+  }
+  const std::span<const mapping::OccupancyGrid> layers(layer.get(), layer ? 1 : 0);
+  auto grid = std::make_shared<const planning::PlanningGrid>(builder_.build(*map, {layers, {}}));
+  std::lock_guard lock(mutex_);
+  if (map_generation != generation_) return false;  // a new map arrived while this one inflated
+  layer_ = std::move(layer);
+  static_grid_ = std::move(grid);
+  return true;
 }
 
 std::shared_ptr<const planning::PlanningGrid> PlanningWorker::static_grid() const {
@@ -48,16 +67,19 @@ PlanningWorker::Outcome PlanningWorker::plan_now(
     const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
     const std::vector<geometry::Point2D>& extra_obstacles_in_map) {
   std::shared_ptr<const mapping::OccupancyGrid> map;
+  std::shared_ptr<const mapping::OccupancyGrid> layer;
   std::shared_ptr<const planning::PlanningGrid> grid;
   {
     std::lock_guard lock(mutex_);
     map = map_;
+    layer = layer_;
     grid = static_grid_;
   }
   if (!grid) return {planning::PlanError::kNoMap, {}};
   if (!extra_obstacles_in_map.empty()) {
+    const std::span<const mapping::OccupancyGrid> layers(layer.get(), layer ? 1 : 0);
     grid = std::make_shared<const planning::PlanningGrid>(
-        builder_.build(*map, {{}, extra_obstacles_in_map}));
+        builder_.build(*map, {layers, extra_obstacles_in_map}));
   }
   const planning::PlanResult result = planner_named(planner).plan(*grid, start, goal);
   if (!result.ok()) return {result.error, {}};

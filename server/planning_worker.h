@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <future>
 #include <map>
 #include <memory>
@@ -36,8 +37,13 @@ class PlanningWorker {
   PlanningWorker(const PlanningWorker&) = delete;
   PlanningWorker& operator=(const PlanningWorker&) = delete;
 
-  // Inflates `map` (on the caller's thread) and plans on it from now on.
-  void set_map(const mapping::OccupancyGrid& map);
+  // Inflates `map` (on the caller's thread) and plans on it from now on, without a 3D layer.
+  // Returns the map's generation, which set_obstacle_layer must name.
+  std::uint64_t set_map(const mapping::OccupancyGrid& map);
+  // Merges the 3D-obstacle layer (occupied cells block) into the static grid, rebuilt on the
+  // caller's thread. Ignored (false) when the map changed since `map_generation`.
+  bool set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
+                          std::uint64_t map_generation);
   // The inflated active map, or null before set_map.
   std::shared_ptr<const planning::PlanningGrid> static_grid() const;
 
@@ -54,8 +60,10 @@ class PlanningWorker {
   const planning::PlanningGridBuilder builder_;
   const planning::PathSmoother smoother_;
 
-  mutable std::mutex mutex_;  // guards map_ and static_grid_
+  mutable std::mutex mutex_;  // guards map_, layer_, generation_ and static_grid_
   std::shared_ptr<const mapping::OccupancyGrid> map_;
+  std::shared_ptr<const mapping::OccupancyGrid> layer_;
+  std::uint64_t generation_ = 0;
   std::shared_ptr<const planning::PlanningGrid> static_grid_;
 
   // Used only on the worker thread.

@@ -88,6 +88,7 @@ void Robot::tick() {
   now_s_ += period_s_;
   ++ticks_;
   read_sensors();
+  scan_sweep();
   check_faults();
   navigate();
   drive();
@@ -128,6 +129,54 @@ void Robot::read_sensors() {
     watchdog_.seen("compass", t_s);
     compass_schedule_.taken(t_s);
   }
+}
+
+void Robot::scan_sweep() {
+  end_sweep(sweep_scanner_.tick(*sim_, localization_.pose(), now_s_, hub_));
+}
+
+void Robot::end_sweep(std::optional<SweepOutcome> outcome) {
+  if (outcome && sweep_listener_) sweep_listener_(std::move(*outcome));
+}
+
+void Robot::set_sweep_listener(std::function<void(SweepOutcome)> listener) {
+  std::lock_guard lock(mutex_);
+  sweep_listener_ = std::move(listener);
+}
+
+double Robot::start_sweep(std::int64_t id, const perception::SweepMode& mode) {
+  std::lock_guard lock(mutex_);
+  if (sweep_scanner_.running()) {
+    throw api::ApiError(409, "sweep_running", "a 3D sweep is running: wait until it is done");
+  }
+  sweep_scanner_.start(id, mode, now_s_, sim_->profile(), seed_ + static_cast<std::uint64_t>(id));
+  return now_s_;
+}
+
+std::optional<SweepProgress> Robot::sweep_progress() const {
+  std::lock_guard lock(mutex_);
+  return sweep_scanner_.progress();
+}
+
+geometry::Point2D Robot::obstacle_lattice() const {
+  std::lock_guard lock(mutex_);
+  return obstacle_layer_.lattice_origin();
+}
+
+std::optional<int> Robot::apply_3d_obstacles(const mapping::OccupancyGrid& observed) {
+  std::shared_ptr<const mapping::OccupancyGrid> layer;
+  std::uint64_t generation = 0;
+  {
+    std::lock_guard lock(mutex_);
+    if (obstacle_layer_.empty()) return std::nullopt;
+    obstacle_layer_.apply(observed);
+    layer = std::make_shared<const mapping::OccupancyGrid>(obstacle_layer_.grid());
+    generation = map_generation_;
+  }
+  // Re-inflating the map with the layer takes a while: outside the mutex, like set_map.
+  if (!navigation_.set_obstacle_layer(layer, generation)) return std::nullopt;
+  return static_cast<int>(std::count(layer->cells().begin(), layer->cells().end(),
+                                     mapping::OccupancyGrid::kOccupied));
 }
 
 void Robot::check_faults() {
@@ -293,9 +342,14 @@ void Robot::set_localization_pose(const geometry::Pose2D& pose, const Eigen::Mat
 
 void Robot::set_map(const mapping::OccupancyGrid& map) {
   // Inflating and extracting lines takes a while on a big map: outside the mutex.
-  navigation_.set_map(map);
+  const std::uint64_t generation = navigation_.set_map(map);
   std::vector<perception::LineSegment> lines = perception::extract_map_lines(map);
   std::lock_guard lock(mutex_);
+  // The 3D layer belongs to the map it was measured on, and so does a sweep's cloud.
+  map_generation_ = generation;
+  // IPaBD's cell (ALGORITHMS.md P2): a third of the robot's width.
+  obstacle_layer_.reset(map, sim_->profile().footprint_width_m / 3.0);
+  end_sweep(sweep_scanner_.abort("map_changed", now_s_));
   localization_.set_map_lines(std::move(lines));
   navigation_.end_active(navigation::GoalStatus::kCanceled, "map_changed", now_s_);
   publish_goal_changes();
@@ -357,6 +411,7 @@ void Robot::reset(std::optional<sim::World> world, std::optional<geometry::Pose2
   distance_before_reset_m_ += localization_.travelled_m();
   navigation_.end_active(navigation::GoalStatus::kCanceled, "reset", now_s_);
   publish_goal_changes();
+  end_sweep(sweep_scanner_.abort("reset", now_s_));
   if (world) {
     const geometry::Pose2D start = pose.value_or(world->start);
     sim_ = std::make_unique<sim::Simulator>(std::move(*world), sim::r1_profile(), seed_);

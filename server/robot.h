@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "core/control/command_mux.h"
 #include "core/control/velocity_smoother.h"
 #include "core/navigation/goal.h"
+#include "core/perception/obstacle_layer_3d.h"
 #include "core/safety/sensor_watchdog.h"
 #include "drivers/sim/simulator.h"
 #include "drivers/sim/world.h"
@@ -20,6 +22,7 @@
 #include "server/navigation.h"
 #include "server/rate_schedule.h"
 #include "server/recorder.h"
+#include "server/sweep_scanner.h"
 
 namespace mobot::server {
 
@@ -55,6 +58,20 @@ class Robot {
   bool pose_is_free(const geometry::Pose2D& pose) const;
   int add_obstacle(double x_m, double y_m, double radius_m, double height_m);
   bool remove_obstacle(int id);
+  // 3D sweeps. The listener hears every sweep's outcome, on the control loop's thread and under
+  // the Robot's mutex: it must hand the outcome on, not call back into the Robot.
+  void set_sweep_listener(std::function<void(SweepOutcome)> listener);
+  // Starts the sweep at the next tick and returns the robot time it starts at. ApiError 409
+  // sweep_running while one runs.
+  double start_sweep(std::int64_t id, const perception::SweepMode& mode);
+  std::optional<SweepProgress> sweep_progress() const;
+  // The 3D-obstacle layer's cell corners, for IPaBD to compute on the same lattice.
+  geometry::Point2D obstacle_lattice() const;
+  // Merges an IPaBD result (undilated: planning inflates) into the 3D-obstacle layer and plans on
+  // it from now on. Returns the layer's occupied cells, or nullopt when the map changed
+  // meanwhile and the result was dropped.
+  std::optional<int> apply_3d_obstacles(const mapping::OccupancyGrid& observed);
+
   // Zero command at once, bypassing the smoother: used on shutdown.
   void halt();
   std::string world_name() const;
@@ -63,6 +80,8 @@ class Robot {
 
  private:
   void read_sensors();
+  void scan_sweep();
+  void end_sweep(std::optional<SweepOutcome> outcome);
   void navigate();
   void publish_goal_changes();
   void check_faults();
@@ -107,6 +126,10 @@ class Robot {
   std::optional<msgs::LaserScan> new_scan_;
   std::optional<msgs::SonarRing> new_sonar_;
   std::optional<msgs::CompassReading> compass_;
+  SweepScanner sweep_scanner_;
+  std::function<void(SweepOutcome)> sweep_listener_;
+  perception::ObstacleLayer3D obstacle_layer_;
+  std::uint64_t map_generation_ = 0;
   std::uint64_t ticks_ = 0;
   std::uint64_t collisions_ = 0;
 };

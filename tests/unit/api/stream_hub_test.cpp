@@ -63,6 +63,11 @@ class FakePort : public RobotPort {
   }
   std::vector<TokenInfo> list_tokens() const override { return {}; }
   bool revoke_token(std::int64_t) override { return false; }
+  SweepInfo start_sweep(const SweepRequest&) override { throw unsupported(); }
+  std::vector<SweepInfo> list_sweeps() const override { return {}; }
+  std::optional<SweepInfo> find_sweep(std::int64_t) const override { return std::nullopt; }
+  perception::PointCloud sweep_cloud(std::int64_t) const override { throw unsupported(); }
+  mapping::OccupancyGrid sweep_obstacle_map(std::int64_t) const override { throw unsupported(); }
   bool is_simulated() const override { return true; }
   std::vector<WorldInfo> list_worlds() const override { return {}; }
   SimTruth sim_truth() const override { return {}; }
