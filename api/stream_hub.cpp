@@ -77,33 +77,34 @@ void StreamHub::publish_odom(const msgs::Odometry& odometry) {
                 {"w", odometry.twist.angular_radps}});
 }
 
-void StreamHub::publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map) {
-  const FrameStamp stamp = next_stamp(TopicId::kScan, scan.stamp_s);
-  const auto i = topic_index(TopicId::kScan);
+template <class JsonData, class BinaryFrame>
+void StreamHub::publish_bulk(TopicId topic, double t_s, JsonData&& json_data,
+                             BinaryFrame&& binary_frame) {
+  const FrameStamp stamp = next_stamp(topic, t_s);
+  const auto i = topic_index(topic);
   SharedFrame frame;
   frame.wall_us = stamp.wall_us;
+  // Each encoding only when somebody subscribed to it.
   if (json_subscribers_[i].load(std::memory_order_relaxed) > 0) {
-    frame.json = as_text_frame(encode_json_frame("scan", stamp, scan_json(scan, sensor_in_map)));
+    frame.json = as_text_frame(encode_json_frame(topic_spec(topic).name, stamp, json_data()));
   }
   if (binary_subscribers_[i].load(std::memory_order_relaxed) > 0) {
-    frame.binary = as_binary_frame(encode_binary_scan(stamp, scan, sensor_in_map));
+    frame.binary = as_binary_frame(binary_frame(stamp));
   }
-  if (frame.json || frame.binary) distribute(TopicId::kScan, frame);
+  if (frame.json || frame.binary) distribute(topic, frame);
+}
+
+void StreamHub::publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map) {
+  publish_bulk(
+      TopicId::kScan, scan.stamp_s, [&] { return scan_json(scan, sensor_in_map); },
+      [&](const FrameStamp& stamp) { return encode_binary_scan(stamp, scan, sensor_in_map); });
 }
 
 void StreamHub::publish_cloud(double t_s, const CloudChunk& chunk,
                               std::span<const perception::CloudPoint> points) {
-  const FrameStamp stamp = next_stamp(TopicId::kCloud, t_s);
-  const auto i = topic_index(TopicId::kCloud);
-  SharedFrame frame;
-  frame.wall_us = stamp.wall_us;
-  if (json_subscribers_[i].load(std::memory_order_relaxed) > 0) {
-    frame.json = as_text_frame(encode_json_frame("cloud", stamp, cloud_json(chunk, points)));
-  }
-  if (binary_subscribers_[i].load(std::memory_order_relaxed) > 0) {
-    frame.binary = as_binary_frame(encode_binary_cloud(stamp, chunk, points));
-  }
-  if (frame.json || frame.binary) distribute(TopicId::kCloud, frame);
+  publish_bulk(
+      TopicId::kCloud, t_s, [&] { return cloud_json(chunk, points); },
+      [&](const FrameStamp& stamp) { return encode_binary_cloud(stamp, chunk, points); });
 }
 
 void StreamHub::publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map) {

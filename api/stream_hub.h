@@ -101,6 +101,9 @@ class StreamHub {
   bool wanted(TopicId topic) const;
   FrameStamp next_stamp(TopicId topic, double t_s);
   void publish_json(TopicId topic, double t_s, const nlohmann::json& data);
+  // A topic with a binary encoding: json_data() gives the JSON data, binary_frame(stamp) the frame.
+  template <class JsonData, class BinaryFrame>
+  void publish_bulk(TopicId topic, double t_s, JsonData&& json_data, BinaryFrame&& binary_frame);
   void distribute(TopicId topic, const SharedFrame& frame);
   void start_pass_locked();
   void run_pass(WritePass& pass);
