@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/estimation/kalman_update.h"
 #include "core/estimation/landmark_measurement_model.h"
 #include "core/kinematics/diff_drive.h"
 
@@ -13,10 +14,6 @@ UpdateReport rejected(UpdateStatus status) {
   UpdateReport report;
   report.status = status;
   return report;
-}
-
-bool valid_covariance(const Eigen::Matrix3d& covariance) {
-  return covariance.allFinite() && (covariance.diagonal().array() >= 0.0).all();
 }
 
 bool all_valid(const std::vector<perception::LineSegment>& lines) {
@@ -36,13 +33,10 @@ EkfLocalizer::EkfLocalizer(const EkfLocalizerOptions& options, const geometry::P
 
 UpdateReport EkfLocalizer::set_pose(const geometry::Pose2D& pose,
                                     const Eigen::Matrix3d& covariance) {
-  if (!geometry::is_finite(pose) || !valid_covariance(covariance)) {
-    return rejected(UpdateStatus::kRejectedNonFinite);
-  }
-  // wrap_angle is not exact for angles already in range; leave those bit for bit.
-  const bool in_range = pose.theta > -std::numbers::pi && pose.theta <= std::numbers::pi;
-  pose_ = {pose.x, pose.y, in_range ? pose.theta : geometry::wrap_angle(pose.theta)};
-  covariance_ = 0.5 * (covariance + covariance.transpose());
+  const auto estimate = initial_estimate(pose, covariance);
+  if (!estimate) return rejected(UpdateStatus::kRejectedNonFinite);
+  pose_ = estimate->pose;
+  covariance_ = estimate->covariance;
   return {};
 }
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <numbers>
 
 namespace mobot::estimation {
 
@@ -34,6 +35,18 @@ std::optional<double> normalized_innovation_squared(const Eigen::Matrix3d& covar
   const Eigen::LLT<Eigen::MatrixXd> llt(s);
   if (llt.info() != Eigen::Success) return std::nullopt;
   return innovation.dot(llt.solve(innovation));
+}
+
+std::optional<PoseEstimate> initial_estimate(const geometry::Pose2D& pose,
+                                             const Eigen::Matrix3d& covariance) {
+  if (!geometry::is_finite(pose) || !covariance.allFinite() ||
+      (covariance.diagonal().array() < 0.0).any()) {
+    return std::nullopt;
+  }
+  // wrap_angle is not exact for angles already in range; leave those bit for bit.
+  const bool in_range = pose.theta > -std::numbers::pi && pose.theta <= std::numbers::pi;
+  return PoseEstimate{{pose.x, pose.y, in_range ? pose.theta : geometry::wrap_angle(pose.theta)},
+                      0.5 * (covariance + covariance.transpose())};
 }
 
 }  // namespace mobot::estimation

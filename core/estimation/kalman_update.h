@@ -3,6 +3,8 @@
 #include <Eigen/Core>
 #include <optional>
 
+#include "core/geometry/pose2d.h"
+
 namespace mobot::estimation {
 
 // Measurement Jacobian and noise of a stacked update on a three-dimensional pose state.
@@ -28,5 +30,16 @@ std::optional<double> normalized_innovation_squared(const Eigen::Matrix3d& covar
                                                     const MeasurementJacobian& h,
                                                     const Eigen::MatrixXd& noise,
                                                     const Eigen::VectorXd& innovation);
+
+struct PoseEstimate {
+  geometry::Pose2D pose;
+  Eigen::Matrix3d covariance;
+};
+
+// A pose and covariance to (re)start a pose EKF from, or nullopt when either is not finite or a
+// variance is negative. The heading is wrapped (left bit for bit when already in range) and the
+// covariance symmetrised.
+std::optional<PoseEstimate> initial_estimate(const geometry::Pose2D& pose,
+                                             const Eigen::Matrix3d& covariance);
 
 }  // namespace mobot::estimation

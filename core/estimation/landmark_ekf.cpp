@@ -31,14 +31,10 @@ LandmarkEkf::LandmarkEkf(const LandmarkEkfOptions& options, const geometry::Pose
 
 UpdateReport LandmarkEkf::set_pose(const geometry::Pose2D& pose,
                                    const Eigen::Matrix3d& covariance) {
-  if (!geometry::is_finite(pose) || !covariance.allFinite() ||
-      (covariance.diagonal().array() < 0.0).any()) {
-    return rejected(UpdateStatus::kRejectedNonFinite);
-  }
-  // wrap_angle is not exact for angles already in range; leave those bit for bit.
-  const bool in_range = pose.theta > -std::numbers::pi && pose.theta <= std::numbers::pi;
-  pose_ = {pose.x, pose.y, in_range ? pose.theta : geometry::wrap_angle(pose.theta)};
-  covariance_ = 0.5 * (covariance + covariance.transpose());
+  const auto estimate = initial_estimate(pose, covariance);
+  if (!estimate) return rejected(UpdateStatus::kRejectedNonFinite);
+  pose_ = estimate->pose;
+  covariance_ = estimate->covariance;
   return {};
 }
 
