@@ -15,7 +15,7 @@ constexpr std::array<std::string_view, 2> kPlanners{"astar", "voronoi"};
 constexpr std::array<std::string_view, 4> kControllers{"lyapunov", "pure_pursuit", "dwa",
                                                        "potential_field"};
 // What this build runs; the others are in the contract but not implemented yet.
-constexpr std::array<std::string_view, 1> kAvailablePlanners{"astar"};
+constexpr std::array<std::string_view, 2> kAvailablePlanners{"astar", "voronoi"};
 constexpr std::array<std::string_view, 1> kAvailableControllers{"lyapunov"};
 
 template <std::size_t N, std::size_t M>

@@ -7,8 +7,20 @@
 
 namespace mobot::server {
 
+namespace {
+
+planning::GlobalPlannerOptions planner_options(const planning::PlanningGridOptions& grid) {
+  planning::GlobalPlannerOptions options;
+  // The roadmap keeps the middles of passages the robot fits through: at least its turning
+  // diameter wide.
+  options.voronoi.roadmap.min_passage_width_m = 2.0 * grid.inscribed_radius_m;
+  return options;
+}
+
+}  // namespace
+
 PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options)
-    : builder_(grid_options) {}
+    : builder_(grid_options), planner_options_(planner_options(grid_options)) {}
 
 PlanningWorker::~PlanningWorker() { pool_.join(); }
 
@@ -58,7 +70,7 @@ std::future<PlanningWorker::Outcome> PlanningWorker::plan(
 
 planning::GlobalPlanner& PlanningWorker::planner_named(const std::string& name) {
   auto& planner = planners_[name];
-  if (!planner) planner = planning::make_global_planner(name);
+  if (!planner) planner = planning::make_global_planner(name, planner_options_);
   if (!planner) throw std::invalid_argument("unknown planner '" + name + "'");
   return *planner;
 }
@@ -83,6 +95,9 @@ PlanningWorker::Outcome PlanningWorker::plan_now(
   }
   const planning::PlanResult result = planner_named(planner).plan(*grid, start, goal);
   if (!result.ok()) return {result.error, {}};
+  // The Voronoi route is meant to keep to the passage middles; smoothing would cut its corners
+  // back to the shortest path. Its waypoints are already reduced and clear.
+  if (planner == "voronoi") return {std::nullopt, planning::Path(result.points_in_map)};
   return {std::nullopt, planning::Path(smoother_.smooth(*grid, result.points_in_map))};
 }
 

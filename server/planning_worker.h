@@ -14,6 +14,7 @@
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/planning/global_planner.h"
+#include "core/planning/global_planner_factory.h"
 #include "core/planning/path.h"
 #include "core/planning/path_smoother.h"
 #include "core/planning/planning_grid.h"
@@ -59,6 +60,7 @@ class PlanningWorker {
 
   const planning::PlanningGridBuilder builder_;
   const planning::PathSmoother smoother_;
+  const planning::GlobalPlannerOptions planner_options_;
 
   mutable std::mutex mutex_;  // guards map_, layer_, generation_ and static_grid_
   std::shared_ptr<const mapping::OccupancyGrid> map_;

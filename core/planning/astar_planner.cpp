@@ -7,33 +7,13 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/planning/grid_steps.h"
+#include "core/planning/start_escape.h"
+
 namespace mobot::planning {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-struct Step {
-  int dx;
-  int dy;
-  double length_cells;
-};
-
-// A cell's stamp records the index of the step that last reached it, so the order is fixed: the
-// four straight steps, then the four diagonals.
-constexpr std::array<Step, 8> kSteps{{{1, 0, 1.0},
-                                      {-1, 0, 1.0},
-                                      {0, 1, 1.0},
-                                      {0, -1, 1.0},
-                                      {1, 1, std::numbers::sqrt2},
-                                      {1, -1, std::numbers::sqrt2},
-                                      {-1, 1, std::numbers::sqrt2},
-                                      {-1, -1, std::numbers::sqrt2}}};
-
-double octile_cells(mapping::CellIndex a, mapping::CellIndex b) {
-  const int dx = std::abs(a.x - b.x);
-  const int dy = std::abs(a.y - b.y);
-  return std::max(dx, dy) + (std::numbers::sqrt2 - 1.0) * std::min(dx, dy);
-}
 
 // Open-list order: smaller f first; among equal f the node nearer the goal (smaller h), which cuts
 // the expansions on open ground (1000 instead of most of a 1000 x 1000 grid) without changing the
@@ -237,61 +217,6 @@ void AStarPlanner::begin_search(std::size_t cell_count, double resolution) {
   }
 }
 
-std::optional<std::vector<mapping::CellIndex>> AStarPlanner::escape(
-    const PlanningGrid& grid, mapping::CellIndex start) const {
-  // A window of radius r cells around the start bounds the search; local arrays keep it cheap.
-  const double radius_cells = std::ceil(options_.max_escape_distance_m / grid.resolution_m());
-  const int radius = static_cast<int>(
-      std::min(radius_cells, static_cast<double>(std::max(grid.width(), grid.height()))));
-  const int side = 2 * radius + 1;
-  const auto window_cells = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
-  const auto local_index = [&](mapping::CellIndex c) {
-    return static_cast<std::size_t>(c.y - start.y + radius) * static_cast<std::size_t>(side) +
-           static_cast<std::size_t>(c.x - start.x + radius);
-  };
-  const bool start_lethal = grid.cost(start) == PlanningGrid::kLethal;
-  const auto passable = [&](std::uint8_t cost) {
-    return cost == PlanningGrid::kInscribed || cost == PlanningGrid::kUnknown ||
-           (start_lethal && cost == PlanningGrid::kLethal);
-  };
-
-  struct Node {
-    double f;  // the distance so far; named f to share the heap
-    double h;
-    mapping::CellIndex cell;
-  };
-  std::vector<double> dist(window_cells, kInfinity);
-  std::vector<mapping::CellIndex> parent(window_cells, start);
-  std::vector<Node> heap{{0.0, 0.0, start}};
-  dist[local_index(start)] = 0.0;
-  const double limit_cells = options_.max_escape_distance_m / grid.resolution_m();
-  while (!heap.empty()) {
-    const Node node = heap_pop(heap);
-    if (node.f > dist[local_index(node.cell)]) continue;
-    if (grid.is_traversable(node.cell)) {
-      std::vector<mapping::CellIndex> route{node.cell};
-      while (!(route.back() == start)) route.push_back(parent[local_index(route.back())]);
-      std::reverse(route.begin(), route.end());
-      return route;
-    }
-    for (const Step& step : kSteps) {
-      const mapping::CellIndex next{node.cell.x + step.dx, node.cell.y + step.dy};
-      if (!grid.contains(next) || std::abs(next.x - start.x) > radius ||
-          std::abs(next.y - start.y) > radius) {
-        continue;
-      }
-      const double d = node.f + step.length_cells;
-      const std::size_t li = local_index(next);
-      if (d > limit_cells || d >= dist[li]) continue;
-      // Only traversable cells and cells the robot may back out through are entered.
-      if (!grid.is_traversable(next) && !passable(grid.cost(next))) continue;
-      dist[li] = d;
-      parent[li] = node.cell;
-      heap_push(heap, Node{d, 0.0, next});
-    }
-  }
-  return std::nullopt;
-}
 
 bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
                           mapping::CellIndex goal, PlanResult& result) {
@@ -324,7 +249,7 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
   open_.reset(h0, span, res);
   open_.push(h0, h0, start_index);
 
-  // Relaxes step kSteps[step] from the cell being expanded, at g, to cell (nx, ny) at flat index
+  // Relaxes step kGridSteps[step] from the cell being expanded, at g, to cell (nx, ny) at flat index
   // `next`. The closed test comes first: it is the most frequent way out (half the calls on the
   // maze) and needs no arithmetic. (always_inline: GCC otherwise calls it from its eight sites,
   // 30 % more instructions on the maze benchmark.)
@@ -357,7 +282,7 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
     const double g = gs[i];
     if (x > 0 && y > 0 && x + 1 < width && y + 1 < height) {
       // Interior cell: no bounds checks, and the side cells a diagonal needs (no corner cutting)
-      // are the orthogonal neighbours already looked at. Steps numbered as in kSteps.
+      // are the orthogonal neighbours already looked at. Steps numbered as in kGridSteps.
       const bool east = free_at(i + 1);
       const bool west = free_at(i - 1);
       const bool north = free_at(i + w);
@@ -372,8 +297,8 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
       if (south && west && free_at(i - w - 1)) relax(g, 7, x - 1, y - 1, i - w - 1, diagonal_cost);
       continue;
     }
-    for (unsigned k = 0; k < kSteps.size(); ++k) {
-      const Step& step = kSteps[k];
+    for (unsigned k = 0; k < kGridSteps.size(); ++k) {
+      const GridStep& step = kGridSteps[k];
       const int nx = x + step.dx;
       const int ny = y + step.dy;
       if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
@@ -393,7 +318,7 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
   // Back from the goal, each cell to the one whose expansion last lowered its g.
   std::vector<mapping::CellIndex> reversed{goal};
   for (std::uint32_t c = goal_index; c != start_index;) {
-    const Step& step = kSteps[stamp[c] & ((1U << kStepBits) - 1)];
+    const GridStep& step = kGridSteps[stamp[c] & ((1U << kStepBits) - 1)];
     const mapping::CellIndex from{reversed.back().x - step.dx, reversed.back().y - step.dy};
     reversed.push_back(from);
     c = static_cast<std::uint32_t>(grid.index_of(from));
@@ -422,7 +347,7 @@ PlanResult AStarPlanner::plan(const PlanningGrid& grid, const geometry::Pose2D& 
 
   mapping::CellIndex search_start = *start_cell;
   if (!grid.is_traversable(*start_cell)) {
-    const auto route = escape(grid, *start_cell);
+    const auto route = escape_route(grid, *start_cell, options_.max_escape_distance_m);
     if (!route) return fail(PlanError::kStartInObstacle);
     result.start_escaped = true;
     // The search adds the escape cell again as its first cell.

@@ -90,9 +90,6 @@ class AStarPlanner : public GlobalPlanner {
   // Advances the search number (resetting the stamps when it runs out or the grid size changed)
   // and fills the step cost tables for the grid's resolution.
   void begin_search(std::size_t cell_count, double resolution);
-  // Cells from the start to the nearest traversable cell, or nullopt when none is within reach.
-  std::optional<std::vector<mapping::CellIndex>> escape(const PlanningGrid& grid,
-                                                        mapping::CellIndex start) const;
   // Fills `result.cells` and `result.cost`; false when the goal is unreachable.
   bool search(const PlanningGrid& grid, mapping::CellIndex start, mapping::CellIndex goal,
               PlanResult& result);

@@ -6,12 +6,14 @@
 
 #include "core/planning/astar_planner.h"
 #include "core/planning/global_planner.h"
+#include "core/planning/voronoi_planner.h"
 
 namespace mobot::planning {
 
 // Options of every planner the factory can make; each reads its own part.
 struct GlobalPlannerOptions {
   AStarOptions astar;
+  VoronoiPlannerOptions voronoi;
 };
 
 // The planner registered under `name` (CONTRACT.md's "planner" field), or nullptr when no planner

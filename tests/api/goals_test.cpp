@@ -357,7 +357,7 @@ TEST_F(GoalsTest, ImpossibleGoalsAre422AndChangeNothing) {
       {{{"x", 10.0}, {"y", -0.5}, {"theta", 1.0}}, "goal_outside_map"},
       {{{"x", 1e5}, {"y", -1e5}}, "goal_outside_map"},
       // Well-formed but not in this build.
-      {{{"x", 5.0}, {"y", 7.5}, {"planner", "voronoi"}}, "unsupported_planner"},
+      {{{"x", 5.0}, {"y", 6.65}, {"planner", "voronoi"}}, "goal_in_obstacle"},
       {{{"x", 5.0}, {"y", 7.5}, {"controller", "dwa"}}, "unsupported_controller"},
   };
   for (const auto& test : cases) {

@@ -1,5 +1,6 @@
 // Planning and control benchmarks. Targets: A* corner to corner on a 1000 x 1000 maze < 50 ms;
-// one controller compute (Lyapunov, potential field) a few microseconds.
+// one controller compute (Lyapunov, potential field) a few microseconds. The Voronoi planner is
+// measured cold (a changed grid: roadmap + plan) and warm (roadmap cached, plan only).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -21,6 +22,8 @@
 #include "core/planning/path_smoother.h"
 #include "core/planning/planning_grid.h"
 #include "core/planning/planning_grid_builder.h"
+#include "core/planning/voronoi_planner.h"
+#include "core/planning/voronoi_roadmap.h"
 
 namespace {
 
@@ -131,6 +134,137 @@ void BM_AStarOpen1000Skewed(benchmark::State& state) {
   run_astar(state, grid, centre_of(grid, 0, 0), centre_of(grid, 999, 700));
 }
 BENCHMARK(BM_AStarOpen1000Skewed)->Unit(benchmark::kMillisecond);
+
+// A 20 x 20 m office at 0.05 m: a 2 m corridor across the middle, five 4 m rooms on each side,
+// each with a 0.9 m door onto the corridor and a desk against its back wall, inside 0.1 m walls.
+OccupancyGrid make_office() {
+  constexpr int kSide = 400;
+  OccupancyGrid grid(kSide, kSide, 0.05, {}, OccupancyGrid::kFree);
+  const auto wall = [&](int x0, int y0, int x1, int y1) {
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) grid.set({x, y}, OccupancyGrid::kOccupied);
+    }
+  };
+  const auto opening = [&](int x0, int y0, int x1, int y1) {
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) grid.set({x, y}, OccupancyGrid::kFree);
+    }
+  };
+  wall(0, 0, kSide - 1, 1);
+  wall(0, kSide - 2, kSide - 1, kSide - 1);
+  wall(0, 0, 1, kSide - 1);
+  wall(kSide - 2, 0, kSide - 1, kSide - 1);
+  wall(0, 178, kSide - 1, 179);  // the corridor, y 180..219
+  wall(0, 220, kSide - 1, 221);
+  for (int room = 0; room < 5; ++room) {
+    const int x0 = room * 80;
+    if (room > 0) {
+      wall(x0, 0, x0 + 1, 177);
+      wall(x0, 222, x0 + 1, kSide - 1);
+    }
+    const int door = x0 + 20 + 8 * room;  // the doors are not all in line
+    opening(door, 178, door + 17, 179);
+    opening(door + 10, 220, door + 27, 221);
+    wall(x0 + 15, 12, x0 + 45, 25);  // desks
+    wall(x0 + 30, kSide - 26, x0 + 60, kSide - 13);
+  }
+  return grid;
+}
+
+// cold: every plan is on a changed grid (two grids in turn that differ in one wall cell, lethal in
+// one and unknown in the other: the same roadmap, but the cache cannot know), so each plan builds
+// the roadmap, as after a map update; the planner and its buffers are reused, as by the server.
+// warm: the same grid every time, the roadmap cached.
+void run_voronoi(benchmark::State& state, const PlanningGrid& grid, mobot::geometry::Pose2D start,
+                 mobot::geometry::Pose2D goal, bool cold) {
+  PlanningGrid other = grid;
+  if (other.cost({0, 0}) != PlanningGrid::kLethal) {
+    state.SkipWithError("cell (0, 0) is not a wall");
+    return;
+  }
+  other.set_cost({0, 0}, PlanningGrid::kUnknown);
+  mobot::planning::VoronoiPlanner planner;
+  mobot::planning::PlanResult result;
+  bool flip = false;
+  const std::size_t builds_before = planner.roadmap_builds();
+  for (auto _ : state) {
+    flip = cold && !flip;
+    result = planner.plan(flip ? other : grid, start, goal);
+    benchmark::DoNotOptimize(result.cost);
+  }
+  if (!result.ok()) state.SkipWithError("no path");
+  state.counters["builds_per_plan"] =
+      static_cast<double>(planner.roadmap_builds() - builds_before) /
+      static_cast<double>(state.iterations());
+  state.counters["expanded"] = static_cast<double>(result.expanded_cells);
+  state.counters["path_m"] = result.length_m;
+  state.counters["cells"] = static_cast<double>(result.cells.size());
+  state.counters["waypoints"] = static_cast<double>(result.points_in_map.size());
+  state.counters["roadmap_cells"] = static_cast<double>(planner.roadmap_for(grid).size());
+}
+
+void run_voronoi_roadmap(benchmark::State& state, const PlanningGrid& grid) {
+  std::size_t cells = 0;
+  for (auto _ : state) {
+    const mobot::planning::VoronoiRoadmap roadmap(grid);
+    cells = roadmap.size();
+    benchmark::DoNotOptimize(roadmap.mask().data());
+  }
+  state.counters["roadmap_cells"] = static_cast<double>(cells);
+}
+
+const PlanningGrid& office_grid() {
+  static const PlanningGrid grid = mobot::planning::PlanningGridBuilder().build(make_office());
+  return grid;
+}
+
+// The inflated maze of BM_AStarMaze1000Inflated.
+const PlanningGrid& inflated_maze_grid() {
+  static const PlanningGrid grid =
+      mobot::planning::PlanningGridBuilder().build(make_maze(1000, 24, 2, 0.05, 2));
+  return grid;
+}
+
+// From the lower-left room to the upper-right one, through two doors and along the corridor.
+constexpr mobot::geometry::Pose2D kOfficeStart{2.0, 5.0, 0.0};
+constexpr mobot::geometry::Pose2D kOfficeGoal{18.0, 15.0, 0.0};
+
+void BM_VoronoiRoadmapOffice400(benchmark::State& state) {
+  run_voronoi_roadmap(state, office_grid());
+}
+BENCHMARK(BM_VoronoiRoadmapOffice400)->Unit(benchmark::kMillisecond);
+
+void BM_VoronoiColdOffice400(benchmark::State& state) {
+  run_voronoi(state, office_grid(), kOfficeStart, kOfficeGoal, true);
+}
+BENCHMARK(BM_VoronoiColdOffice400)->Unit(benchmark::kMillisecond);
+
+void BM_VoronoiWarmOffice400(benchmark::State& state) {
+  run_voronoi(state, office_grid(), kOfficeStart, kOfficeGoal, false);
+}
+BENCHMARK(BM_VoronoiWarmOffice400)->Unit(benchmark::kMillisecond);
+
+void BM_AStarOffice400(benchmark::State& state) {
+  run_astar(state, office_grid(), kOfficeStart, kOfficeGoal);
+}
+BENCHMARK(BM_AStarOffice400)->Unit(benchmark::kMillisecond);
+
+void BM_VoronoiRoadmapMaze1000Inflated(benchmark::State& state) {
+  run_voronoi_roadmap(state, inflated_maze_grid());
+}
+BENCHMARK(BM_VoronoiRoadmapMaze1000Inflated)->Unit(benchmark::kMillisecond);
+
+void BM_VoronoiColdMaze1000Inflated(benchmark::State& state) {
+  const PlanningGrid& grid = inflated_maze_grid();
+  run_voronoi(state, grid, centre_of(grid, 14, 14), centre_of(grid, 976, 976), true);
+}
+BENCHMARK(BM_VoronoiColdMaze1000Inflated)->Unit(benchmark::kMillisecond);
+
+void BM_VoronoiWarmMaze1000Inflated(benchmark::State& state) {
+  const PlanningGrid& grid = inflated_maze_grid();
+  run_voronoi(state, grid, centre_of(grid, 14, 14), centre_of(grid, 976, 976), false);
+}
+BENCHMARK(BM_VoronoiWarmMaze1000Inflated)->Unit(benchmark::kMillisecond);
 
 void BM_Inflation2000(benchmark::State& state) {
   static const OccupancyGrid maze = make_maze(2000, 24, 2, 0.05, 3);

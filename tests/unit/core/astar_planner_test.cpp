@@ -487,7 +487,7 @@ TEST(GlobalPlannerFactory, MakesPlannersByName) {
   ASSERT_NE(planner, nullptr);
   EXPECT_EQ(planner->name(), "astar");
   EXPECT_EQ(make_global_planner("dijkstra"), nullptr);
-  EXPECT_EQ(global_planner_names().size(), 1U);
+  EXPECT_EQ(global_planner_names().size(), 2U);
 }
 
 TEST(AStarPlanner, RejectsBadOptions) {
