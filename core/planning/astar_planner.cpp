@@ -330,47 +330,21 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
 PlanResult AStarPlanner::plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                               const geometry::Pose2D& goal) {
   PlanResult result;
-  const auto fail = [&result](PlanError error) {
-    result.error = error;
-    result.cells.clear();
-    result.points_in_map.clear();
+  const auto ends = search_ends(grid, start, goal, options_.max_escape_distance_m);
+  if (const auto* error = std::get_if<PlanError>(&ends)) {
+    result.error = *error;
     return result;
-  };
-  if (!geometry::is_finite(start) || !geometry::is_finite(goal))
-    return fail(PlanError::kInvalidPose);
-  if (grid.empty()) return fail(PlanError::kNoMap);
-  const auto start_cell = grid.cell_at({start.x, start.y});
-  if (!start_cell) return fail(PlanError::kStartOutsideMap);
-  const auto goal_cell = grid.cell_at({goal.x, goal.y});
-  if (!goal_cell) return fail(PlanError::kGoalOutsideMap);
-  if (!grid.is_traversable(*goal_cell)) return fail(PlanError::kGoalInObstacle);
-
-  mapping::CellIndex search_start = *start_cell;
-  if (!grid.is_traversable(*start_cell)) {
-    const auto route = escape_route(grid, *start_cell, options_.max_escape_distance_m);
-    if (!route) return fail(PlanError::kStartInObstacle);
-    result.start_escaped = true;
-    // The search adds the escape cell again as its first cell.
-    result.cells.assign(route->begin(), route->end() - 1);
-    search_start = route->back();
-    for (std::size_t i = 1; i < route->size(); ++i) {
-      const int dx = std::abs((*route)[i].x - (*route)[i - 1].x);
-      const int dy = std::abs((*route)[i].y - (*route)[i - 1].y);
-      result.cost += grid.resolution_m() * (dx + dy == 2 ? std::numbers::sqrt2 : 1.0);
-    }
   }
-  const double escape_cost = result.cost;
-  if (!search(grid, search_start, *goal_cell, result)) return fail(PlanError::kNoPath);
-  result.cost += escape_cost;
-
-  result.points_in_map.reserve(result.cells.size() + 1);
-  for (const auto& cell : result.cells) result.points_in_map.push_back(grid.cell_center(cell));
-  result.points_in_map.front() = {start.x, start.y};
-  if (result.cells.size() == 1) {
-    result.points_in_map.push_back({goal.x, goal.y});
-  } else {
-    result.points_in_map.back() = {goal.x, goal.y};
+  const SearchEnds& cells = std::get<SearchEnds>(ends);
+  result.start_escaped = !cells.escape.empty();
+  result.cells = cells.escape;
+  if (!search(grid, cells.start, cells.goal, result)) {
+    result.error = PlanError::kNoPath;
+    result.cells.clear();
+    return result;
   }
+  result.cost += cells.escape_cost_m;
+  result.points_in_map = path_points(grid, result.cells, start, goal);
   result.length_m = polyline_length(result.points_in_map);
   return result;
 }

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <queue>
 #include <utility>
 
@@ -68,6 +69,48 @@ std::optional<std::vector<mapping::CellIndex>> escape_route(const PlanningGrid& 
     }
   }
   return std::nullopt;
+}
+
+std::variant<PlanError, SearchEnds> search_ends(const PlanningGrid& grid,
+                                                const geometry::Pose2D& start,
+                                                const geometry::Pose2D& goal,
+                                                double max_escape_distance_m) {
+  if (!geometry::is_finite(start) || !geometry::is_finite(goal)) return PlanError::kInvalidPose;
+  if (grid.empty()) return PlanError::kNoMap;
+  const auto start_cell = grid.cell_at({start.x, start.y});
+  if (!start_cell) return PlanError::kStartOutsideMap;
+  const auto goal_cell = grid.cell_at({goal.x, goal.y});
+  if (!goal_cell) return PlanError::kGoalOutsideMap;
+  if (!grid.is_traversable(*goal_cell)) return PlanError::kGoalInObstacle;
+  SearchEnds ends{*start_cell, *goal_cell, {}, 0.0};
+  if (grid.is_traversable(*start_cell)) return ends;
+  const auto route = escape_route(grid, *start_cell, max_escape_distance_m);
+  if (!route) return PlanError::kStartInObstacle;
+  // The search adds the escape's last cell again as its first.
+  ends.escape.assign(route->begin(), route->end() - 1);
+  ends.start = route->back();
+  for (std::size_t i = 1; i < route->size(); ++i) {
+    const int dx = std::abs((*route)[i].x - (*route)[i - 1].x);
+    const int dy = std::abs((*route)[i].y - (*route)[i - 1].y);
+    ends.escape_cost_m += grid.resolution_m() * (dx + dy == 2 ? std::numbers::sqrt2 : 1.0);
+  }
+  return ends;
+}
+
+std::vector<geometry::Point2D> path_points(const PlanningGrid& grid,
+                                           const std::vector<mapping::CellIndex>& cells,
+                                           const geometry::Pose2D& start,
+                                           const geometry::Pose2D& goal) {
+  std::vector<geometry::Point2D> points;
+  points.reserve(cells.size() + 1);
+  for (const auto& cell : cells) points.push_back(grid.cell_center(cell));
+  points.front() = {start.x, start.y};
+  if (cells.size() == 1) {
+    points.push_back({goal.x, goal.y});
+  } else {
+    points.back() = {goal.x, goal.y};
+  }
+  return points;
 }
 
 }  // namespace mobot::planning

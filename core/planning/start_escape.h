@@ -1,7 +1,11 @@
 #pragma once
 
 #include <optional>
+#include <variant>
 #include <vector>
+
+#include "core/geometry/pose2d.h"
+#include "core/planning/global_planner.h"
 
 #include "core/mapping/occupancy_grid.h"
 #include "core/planning/planning_grid.h"
@@ -16,5 +20,30 @@ namespace mobot::planning {
 std::optional<std::vector<mapping::CellIndex>> escape_route(const PlanningGrid& grid,
                                                             mapping::CellIndex start,
                                                             double max_distance_m);
+
+// Where a grid search runs between, after the checks every planner makes.
+struct SearchEnds {
+  mapping::CellIndex start;  // the robot's cell, or where its escape ends
+  mapping::CellIndex goal;
+  // The escape's cells from the robot's cell up to (not including) `start`; empty when the robot's
+  // cell is traversable. escape_cost_m is their length.
+  std::vector<mapping::CellIndex> escape;
+  double escape_cost_m = 0.0;
+};
+
+// The error codes of global_planner.h in the order a planner checks them: non-finite poses, an
+// empty grid, start or goal outside, a goal the robot does not fit at, a start that cannot
+// escape within max_escape_distance_m.
+std::variant<PlanError, SearchEnds> search_ends(const PlanningGrid& grid,
+                                                const geometry::Pose2D& start,
+                                                const geometry::Pose2D& goal,
+                                                double max_escape_distance_m);
+
+// The cell path's points in the map frame with the first replaced by the exact start and the
+// last by the exact goal (a one-cell path gets the goal appended).
+std::vector<geometry::Point2D> path_points(const PlanningGrid& grid,
+                                           const std::vector<mapping::CellIndex>& cells,
+                                           const geometry::Pose2D& start,
+                                           const geometry::Pose2D& goal);
 
 }  // namespace mobot::planning

@@ -22,11 +22,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr std::uint8_t kStepMask = 0x07;
 constexpr std::uint8_t kClosed = 0x08;
 
-
-double step_length_cells(mapping::CellIndex a, mapping::CellIndex b) {
-  return (a.x != b.x && a.y != b.y) ? std::numbers::sqrt2 : 1.0;
-}
-
 double polyline_length(const std::vector<geometry::Point2D>& points) {
   double length = 0.0;
   for (std::size_t i = 1; i < points.size(); ++i) {
@@ -39,7 +34,6 @@ bool same_grid(const PlanningGrid& a, const PlanningGrid& b) {
   return a.width() == b.width() && a.height() == b.height() &&
          a.resolution_m() == b.resolution_m() && a.origin() == b.origin() && a.costs() == b.costs();
 }
-
 
 // Distance from p to the segment a-b.
 double distance_to_segment(geometry::Point2D p, geometry::Point2D a, geometry::Point2D b) {
@@ -213,50 +207,25 @@ bool VoronoiPlanner::search(const PlanningGrid& grid, const VoronoiRoadmap& road
 PlanResult VoronoiPlanner::plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                                 const geometry::Pose2D& goal) {
   PlanResult result;
-  const auto fail = [&result](PlanError error) {
-    result.error = error;
-    result.cells.clear();
-    result.points_in_map.clear();
+  const auto ends = search_ends(grid, start, goal, options_.max_escape_distance_m);
+  if (const auto* error = std::get_if<PlanError>(&ends)) {
+    result.error = *error;
     return result;
-  };
-  if (!geometry::is_finite(start) || !geometry::is_finite(goal))
-    return fail(PlanError::kInvalidPose);
-  if (grid.empty()) return fail(PlanError::kNoMap);
-  const auto start_cell = grid.cell_at({start.x, start.y});
-  if (!start_cell) return fail(PlanError::kStartOutsideMap);
-  const auto goal_cell = grid.cell_at({goal.x, goal.y});
-  if (!goal_cell) return fail(PlanError::kGoalOutsideMap);
-  if (!grid.is_traversable(*goal_cell)) return fail(PlanError::kGoalInObstacle);
+  }
+  const SearchEnds& cells = std::get<SearchEnds>(ends);
+  result.start_escaped = !cells.escape.empty();
+  result.cells = cells.escape;
+  if (!search(grid, roadmap_for(grid), cells.start, cells.goal, result)) {
+    result.error = PlanError::kNoPath;
+    result.cells.clear();
+    return result;
+  }
+  result.cost += cells.escape_cost_m;
 
-  mapping::CellIndex search_start = *start_cell;
-  double escape_cost = 0.0;
-  if (!grid.is_traversable(*start_cell)) {
-    const auto route = escape_route(grid, *start_cell, options_.max_escape_distance_m);
-    if (!route) return fail(PlanError::kStartInObstacle);
-    result.start_escaped = true;
-    // The search adds the escape's last cell again as its first.
-    result.cells.assign(route->begin(), route->end() - 1);
-    search_start = route->back();
-    for (std::size_t i = 1; i < route->size(); ++i) {
-      escape_cost += grid.resolution_m() * step_length_cells((*route)[i - 1], (*route)[i]);
-    }
-  }
-  // The escape cells, whose points are kept as they are: they cross the inflated zone.
-  const std::size_t escape_cells = result.cells.size();
-  if (!search(grid, roadmap_for(grid), search_start, *goal_cell, result)) {
-    return fail(PlanError::kNoPath);
-  }
-  result.cost += escape_cost;
-
-  std::vector<geometry::Point2D> points;
-  points.reserve(result.cells.size() + 1);
-  for (const auto& cell : result.cells) points.push_back(grid.cell_center(cell));
-  points.front() = {start.x, start.y};
-  if (result.cells.size() == 1) {
-    points.push_back({goal.x, goal.y});
-  } else {
-    points.back() = {goal.x, goal.y};
-  }
+  // The escape's points are kept as they are (they cross the inflated zone); the rest is reduced
+  // to the roadmap's turns.
+  const std::vector<geometry::Point2D> points = path_points(grid, result.cells, start, goal);
+  const std::size_t escape_cells = cells.escape.size();
   result.points_in_map.assign(points.begin(),
                               points.begin() + static_cast<std::ptrdiff_t>(escape_cells));
   const std::vector<geometry::Point2D> waypoints = reduce_to_waypoints(
