@@ -8,7 +8,9 @@ export default defineConfig({
     emptyOutDir: true,
     target: 'es2022',
     sourcemap: false,
-    chunkSizeWarningLimit: 300,
+    // The main chunk is ~90 kB; the 3D page's chunk (three.js WebGLRenderer + OrbitControls, loaded
+    // only when the 3D tab opens) is ~550 kB. Past this limit something grew that should not have.
+    chunkSizeWarningLimit: 600,
   },
   server: {
     // `npm run dev` talks to a local mobotd (REST + WebSocket) on :8080.

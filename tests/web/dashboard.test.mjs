@@ -10,7 +10,9 @@
 // heading, the path is drawn, the robot reaches the point at 5x sim speed; a goal in a wall shows
 // goal_in_obstacle; a plain click sends no heading and Cancel cancels; the EKF uncertainty and the
 // truth ghost are drawn), sim tools (drop and remove an obstacle, set the initial pose), the Maps
-// and Runs tabs list items, a wrong token shows an auth error, stopping the server shows
+// and Runs tabs list items, the 3D tab (three.js view; a 10 s / 1 deg sweep from the "3D sweep"
+// button: the progress bar advances, the cloud is drawn, the PLY downloads) and the "3D obstacles"
+// (IPaBD) overlay on the Live map, a wrong token shows an auth error, stopping the server shows
 // "disconnected" and a restarted server is reconnected.
 // Exit code 0 when every check passes. Screenshots of failures go to tests/web/out/.
 
@@ -557,6 +559,108 @@ async function main() {
       return `${count} run(s); ${summary}; CSV ${csv.trim().split('\n').length - 1} rows`;
     });
 
+    // The 3D sweep runs the simulator 5x faster: a 10 s sweep takes ~2 s, slow enough to see the
+    // progress bar pass through intermediate values.
+    let sweep = null;
+
+    await step('3D tab: the three.js view loads on demand', async () => {
+      await page.click('[data-testid=tab-3d]');
+      await page.waitForFunction(() => window.__mobot.sweep.viewReady || window.__mobot.sweep.error, null, { timeout: 8000 });
+      const state = await page.evaluate(() => window.__mobot.sweep);
+      if (!state.viewReady) throw new Error(`the 3D view did not start: ${state.error}`);
+      await page.waitForSelector('[data-testid=cloud-view] canvas[data-testid=cloud-canvas]', { timeout: 3000 });
+      const scripts = await page.evaluate(() => performance.getEntriesByType('resource').map((e) => e.name).filter((n) => /cloudview/.test(n)));
+      if (scripts.length === 0) throw new Error('the 3D view was not loaded as its own chunk');
+      return `chunk ${scripts[0].split('/').pop()}`;
+    });
+
+    await step('3D sweep (10 s, 1°): the progress bar advances, the cloud is drawn, the sweep ends done', async () => {
+      await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 5 });
+      try {
+        await page.selectOption('[data-testid=sweep-period]', '10');
+        await page.selectOption('[data-testid=sweep-step]', '1');
+        const before = (await page.evaluate(() => window.__mobot.sweep.id)) ?? 0;
+        await page.click('[data-testid=sweep-start]');
+        await page.waitForFunction((id) => (window.__mobot.sweep.id ?? 0) > id, before, { timeout: 3000 });
+        const id = await page.evaluate(() => window.__mobot.sweep.id);
+        const started = await rest(base, token, 'GET', `/api/v1/sweeps/${id}`);
+        if (started.mode.period_s !== 10 || started.mode.step_deg !== 1) throw new Error(`the sweep runs in mode ${JSON.stringify(started.mode)}`);
+        // Live: part of the cloud is drawn while the sweep runs.
+        await page.waitForFunction(() => {
+          const s = window.__mobot.sweep;
+          return s.status === 'running' && s.progress > 0 && s.progress < 1 && s.drawnPoints > 0;
+        }, null, { timeout: 10_000, polling: 50 });
+        await screenshot(page, 'cloud3d-running.png');
+        await page.waitForFunction((sid) => window.__mobot.sweep.id === sid && /^(done|failed)$/.test(window.__mobot.sweep.status ?? ''), id, { timeout: 25_000, polling: 100 });
+        const state = await page.evaluate(() => window.__mobot.sweep);
+        if (state.status !== 'done') throw new Error(`sweep #${id} ended ${state.status}: ${state.error}`);
+        // The bar refreshes at 10 Hz: it shows 1 a moment after the status changed.
+        await page.waitForSelector('[data-testid=sweep-progress][data-progress="1.0000"]', { timeout: 2000 });
+        const seen = await page.evaluate(() => window.__mobot.sweep.progressSeen);
+        const between = seen.filter((p) => p > 0 && p < 1);
+        if (between.length < 2 || seen[seen.length - 1] !== 1) throw new Error(`the progress bar showed ${JSON.stringify(seen)}`);
+        for (let i = 1; i < seen.length; i++) if (seen[i] < seen[i - 1]) throw new Error(`the progress went back: ${JSON.stringify(seen)}`);
+        const info = await rest(base, token, 'GET', `/api/v1/sweeps/${id}`);
+        // The drawn count is the canvas container's data-points, set after a render.
+        await page.waitForFunction((n) => Number(document.querySelector('[data-testid=cloud-view]')?.dataset.points) === n, info.points, { timeout: 5000 });
+        if (!(info.points > 1000)) throw new Error(`sweep #${id} has ${info.points} points`);
+        sweep = { id, points: info.points };
+        await page.click('[data-testid=cloud-reset-view]');
+        await sleep(300);
+        await screenshot(page, 'cloud3d.png');
+        return `sweep #${id}: ${info.points} points drawn, ${info.mode.scans} scans, progress ${seen.map((p) => p.toFixed(2)).join(' ')}`;
+      } finally {
+        await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 1 });
+      }
+    });
+
+    await step('3D tab: Download PLY saves the cloud (fetched with the bearer header)', async () => {
+      if (!sweep) throw new Error('no sweep finished');
+      await page.waitForSelector('[data-testid=sweep-ply]:not([disabled])', { timeout: 3000 });
+      const [download] = await Promise.all([
+        page.waitForEvent('download', { timeout: 5000 }),
+        page.click('[data-testid=sweep-ply]'),
+      ]);
+      const bytes = readFileSync(await download.path());
+      const head = bytes.subarray(0, 200).toString('latin1');
+      if (!head.startsWith('ply\n')) throw new Error(`the PLY starts with ${JSON.stringify(head.slice(0, 40))}`);
+      const vertices = /element vertex (\d+)/.exec(head);
+      if (!vertices || Number(vertices[1]) !== sweep.points) throw new Error(`the PLY header says ${vertices?.[0]}, the sweep has ${sweep.points} points`);
+      return `${download.suggestedFilename()}: ${bytes.length} bytes, ${vertices[1]} vertices`;
+    });
+
+    await step('a newly opened 3D page shows the newest finished sweep (GET /sweeps, cloud?format=bin)', async () => {
+      if (!sweep) throw new Error('no sweep finished');
+      const fresh = await context.newPage();
+      fresh.on('pageerror', (error) => pageErrors.push(`3D page: ${error}`));
+      try {
+        await fresh.goto(`${base}/#3d`, { waitUntil: 'domcontentloaded' });
+        await fresh.waitForFunction((n) => Number(document.querySelector('[data-testid=cloud-view]')?.dataset.points) === n, sweep.points, { timeout: 8000 });
+        const state = await fresh.evaluate(() => window.__mobot.sweep);
+        if (state.id !== sweep.id || state.status !== 'done') throw new Error(`the page shows ${JSON.stringify(state)}`);
+        return `sweep #${state.id}: ${state.drawnPoints} points drawn`;
+      } finally {
+        await fresh.close();
+      }
+    });
+
+    await step('Live tab: the "3D obstacles" toggle draws the IPaBD map of the sweep over the 2D map', async () => {
+      if (!sweep) throw new Error('no sweep finished');
+      await page.click('[data-testid=tab-live]');
+      // The toasts of the sweep sit over the map toolbar: dismiss them (a click removes one).
+      await page.$$eval('#toasts .toast', (els) => els.forEach((e) => e.click()));
+      const grid = await rest(base, token, 'GET', `/api/v1/sweeps/${sweep.id}/obstacle_map`);
+      const occupied = grid.data.filter((v) => v >= 50 && v <= 100).length;
+      if (!(occupied > 0)) throw new Error(`the obstacle map of sweep #${sweep.id} has no occupied cell`);
+      await page.check('[data-testid=layer-ipabd]');
+      await page.waitForFunction((n) => Number(document.querySelector('[data-testid=map-canvas]')?.dataset.ipabdCells) === n, occupied, { timeout: 5000 });
+      await page.waitForSelector('[data-testid=map-legend] .ipabd-only', { state: 'visible', timeout: 1000 });
+      await screenshot(page, 'ipabd-overlay.png');
+      await page.uncheck('[data-testid=layer-ipabd]');
+      await page.waitForFunction(() => document.querySelector('[data-testid=map-canvas]')?.dataset.ipabdCells === '0', null, { timeout: 3000 });
+      return `${occupied} occupied cells of ${grid.width}x${grid.height} at ${grid.resolution} m drawn`;
+    });
+
     await step('Live tab again: still connected and drawing', async () => {
       await page.click('[data-testid=tab-live]');
       const before = (await hooks(page)).scansDrawn;
@@ -581,7 +685,7 @@ async function main() {
       }
     });
 
-    await step('a viewer token: teleop and e-stop refusals are shown', async () => {
+    await step('a viewer token: teleop, e-stop and 3D sweep refusals are shown', async () => {
       let viewer;
       try {
         viewer = await rest(base, token, 'POST', '/api/v1/tokens', { role: 'viewer', label: 'web test' });
@@ -603,7 +707,14 @@ async function main() {
         await vpage.waitForSelector('[data-testid=toast-error]:has-text("E-stop request failed")', { timeout: 3000 });
         const robot = await rest(base, token, 'GET', '/api/v1/robot');
         if (robot.estop) throw new Error('a viewer engaged the e-stop');
-        return (await vpage.evaluate(() => window.__mobot.lastError)) ?? '';
+        const lastError = (await vpage.evaluate(() => window.__mobot.lastError)) ?? '';
+        // A 3D sweep needs the operator role: the 3D page says so above the progress bar.
+        const sweepsBefore = (await rest(base, token, 'GET', '/api/v1/sweeps')).length;
+        await vpage.click('[data-testid=tab-3d]');
+        await vpage.click('[data-testid=sweep-start]');
+        await vpage.waitForSelector('[data-testid=sweep-error]:has-text("operator role")', { state: 'visible', timeout: 3000 });
+        if ((await rest(base, token, 'GET', '/api/v1/sweeps')).length !== sweepsBefore) throw new Error('a viewer started a sweep');
+        return `${lastError}; sweep: ${(await vpage.textContent('[data-testid=sweep-error]'))?.trim()}`;
       } finally {
         await viewerContext.close();
       }

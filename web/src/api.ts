@@ -2,6 +2,8 @@
 // ApiError with the server's {"error":{"code","message"}}.
 
 import type { Goal } from './goals';
+import type { JsonObstacleMap } from './ipabd';
+import type { SweepInfo, SweepRequest } from './sweeps';
 
 export interface Pose {
   x: number;
@@ -165,6 +167,11 @@ export class ApiClient {
     return (await this.request('GET', path)).blob();
   }
 
+  /** GET returning the raw bytes (binary cloud frames). */
+  async bytes(path: string): Promise<ArrayBuffer> {
+    return (await this.request('GET', path)).arrayBuffer();
+  }
+
   health(): Promise<Health> {
     return this.json('GET', '/api/v1/health');
   }
@@ -209,6 +216,22 @@ export class ApiClient {
   }
   setLocalizationPose(pose: Pose, cov?: number[]): Promise<unknown> {
     return this.json('POST', '/api/v1/localization/pose', cov ? { ...pose, cov } : pose);
+  }
+  sweeps(): Promise<SweepInfo[]> {
+    return this.json('GET', '/api/v1/sweeps');
+  }
+  sweep(id: number): Promise<SweepInfo> {
+    return this.json('GET', `/api/v1/sweeps/${id}`);
+  }
+  startSweep(body: SweepRequest): Promise<SweepInfo> {
+    return this.json('POST', '/api/v1/sweeps', body);
+  }
+  /** The whole cloud as one binary `cloud` frame (409 sweep_not_done until the sweep is done). */
+  sweepCloudFrame(id: number): Promise<ArrayBuffer> {
+    return this.bytes(`/api/v1/sweeps/${id}/cloud?format=bin`);
+  }
+  sweepObstacleMap(id: number): Promise<JsonObstacleMap> {
+    return this.json('GET', `/api/v1/sweeps/${id}/obstacle_map`);
   }
   simTruth(): Promise<SimTruth> {
     return this.json('GET', '/api/v1/sim/truth');

@@ -56,6 +56,27 @@ export interface MapGrid {
 
 export const UNKNOWN_CELL = 255;
 
+/**
+ * One chunk of a 3D sweep's point cloud (topic 3, README "Binary frames"): the points of one
+ * tilting-laser scan, in the map frame. `points` holds x, y, z (m) and intensity (0..1) per point.
+ */
+export interface CloudChunk {
+  sweepId: number;
+  /** Index of this chunk's first point within the sweep. */
+  first: number;
+  count: number;
+  /** The sweep's last chunk: the sweep is done. */
+  last: boolean;
+  scansDone: number;
+  scansTotal: number;
+  /** 4 floats per point: x, y, z (m, map frame), intensity (0..1). */
+  points: Float32Array;
+}
+
+export const CLOUD_BODY_HEADER_BYTES = 32;
+export const CLOUD_FLOATS_PER_POINT = 4;
+const CLOUD_FLAG_LAST = 1;
+
 export class FrameError extends Error {}
 
 export function parseHeader(buffer: ArrayBuffer): FrameHeader {
@@ -135,9 +156,35 @@ export function decodeMapBody(buffer: ArrayBuffer, bodyOffset: number): MapGrid 
   };
 }
 
+/**
+ * The cloud body at `bodyOffset`. The body must hold exactly `count` points: a shorter one is a
+ * truncated frame, a longer one disagrees with its count; either way the points cannot be trusted.
+ */
+export function decodeCloudBody(buffer: ArrayBuffer, bodyOffset: number): CloudChunk {
+  if (buffer.byteLength < bodyOffset + CLOUD_BODY_HEADER_BYTES) throw new FrameError('cloud body too short');
+  const view = new DataView(buffer, bodyOffset);
+  const count = view.getUint32(8, true);
+  const pointBytes = buffer.byteLength - bodyOffset - CLOUD_BODY_HEADER_BYTES;
+  const expectedBytes = count * CLOUD_FLOATS_PER_POINT * 4;
+  if (pointBytes < expectedBytes) throw new FrameError(`cloud body holds fewer than ${count} points`);
+  if (pointBytes !== expectedBytes) {
+    throw new FrameError(`cloud body holds ${pointBytes} point bytes, count ${count} says ${expectedBytes}`);
+  }
+  return {
+    sweepId: view.getUint32(0, true),
+    first: view.getUint32(4, true),
+    count,
+    last: (view.getUint32(12, true) & CLOUD_FLAG_LAST) !== 0,
+    scansDone: view.getUint32(16, true),
+    scansTotal: view.getUint32(20, true),
+    points: float32s(buffer, bodyOffset + CLOUD_BODY_HEADER_BYTES, count * CLOUD_FLOATS_PER_POINT),
+  };
+}
+
 export type BinaryFrame =
   | { header: FrameHeader; kind: 'scan'; scan: LaserScan }
   | { header: FrameHeader; kind: 'map'; map: MapGrid }
+  | { header: FrameHeader; kind: 'cloud'; cloud: CloudChunk }
   | { header: FrameHeader; kind: 'other' };
 
 export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
@@ -147,6 +194,8 @@ export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
       return { header, kind: 'scan', scan: decodeScanBody(buffer, header.headerBytes) };
     case BinaryTopic.map:
       return { header, kind: 'map', map: decodeMapBody(buffer, header.headerBytes) };
+    case BinaryTopic.cloud:
+      return { header, kind: 'cloud', cloud: decodeCloudBody(buffer, header.headerBytes) };
     default:
       return { header, kind: 'other' };
   }
@@ -176,6 +225,38 @@ export interface JsonMap {
   resolution: number;
   origin: JsonPose;
   data: number[];
+}
+
+export interface JsonCloud {
+  sweep_id: number;
+  first: number;
+  count: number;
+  last: boolean;
+  scans_done: number;
+  scans_total: number;
+  points: number[][];
+}
+
+export function cloudFromJson(data: JsonCloud): CloudChunk {
+  const rows = Array.isArray(data.points) ? data.points : [];
+  if (rows.length !== data.count) throw new FrameError(`cloud JSON holds ${rows.length} points, count says ${data.count}`);
+  const points = new Float32Array(rows.length * CLOUD_FLOATS_PER_POINT);
+  rows.forEach((row, i) => {
+    for (let k = 0; k < CLOUD_FLOATS_PER_POINT; k++) {
+      const v = row[k];
+      // JSON has no NaN (nlohmann writes null): such a point is dropped by the consumers.
+      points[i * CLOUD_FLOATS_PER_POINT + k] = typeof v === 'number' ? v : NaN;
+    }
+  });
+  return {
+    sweepId: data.sweep_id,
+    first: data.first,
+    count: rows.length,
+    last: !!data.last,
+    scansDone: data.scans_done,
+    scansTotal: data.scans_total,
+    points,
+  };
 }
 
 export function scanFromJson(data: JsonScan): LaserScan {

@@ -11,6 +11,8 @@ import type { PoseData } from './pages/live';
 import { covarianceEllipse, headingSigma } from './goals';
 import { NavigationPanel } from './nav';
 import type { NavError, NavMode } from './nav';
+import { IpabdOverlay } from './ipabdoverlay';
+import { CloudPage } from './pages/cloud3d';
 import { MapsPage } from './pages/maps';
 import { RunsPage } from './pages/runs';
 import { StreamClient } from './stream';
@@ -56,6 +58,21 @@ export interface MobotHooks {
   readonly view: { scale: number; originX: number; originY: number };
   /** Map frame -> viewport (client) CSS pixels, for mouse events. */
   mapToClient(x: number, y: number): [number, number];
+  /** The 3D page's sweep: progress 0..1, points held and drawn by the 3D view, progress values the bar showed. */
+  readonly sweep: {
+    id: number | null;
+    status: string | null;
+    progress: number;
+    scansDone: number;
+    scansTotal: number;
+    points: number;
+    drawnPoints: number;
+    progressSeen: number[];
+    error: string | null;
+    viewReady: boolean;
+  };
+  /** Occupied IPaBD cells drawn over the Live map ("3D obstacles"), 0 when off. */
+  readonly ipabdCells: number;
 }
 
 let token = initialToken();
@@ -90,6 +107,7 @@ const stream = new StreamClient({
       switch (topic) {
         case 'pose':
           live.onPose(data as PoseData);
+          cloud3d.onPose(data as PoseData);
           nav.onClock(meta.t);
           break;
         case 'goal':
@@ -112,6 +130,11 @@ const stream = new StreamClient({
           live.onEvent(data as { t: number; kind: string; detail: unknown });
           // A simulator reset removes every dropped obstacle.
           if ((data as { kind?: string }).kind === 'sim_reset') nav.clearObstacles();
+          if ((data as { kind?: string }).kind === 'sweep') {
+            const detail = (data as { detail?: unknown }).detail;
+            cloud3d.onSweepEvent(detail);
+            ipabd.onSweepEvent(detail);
+          }
           break;
         default:
           break;
@@ -121,7 +144,9 @@ const stream = new StreamClient({
     map: (map) => {
       live.onMap(map);
       runs.setMap(map);
+      cloud3d.onMap(map);
     },
+    cloud: (chunk) => cloud3d.onChunk(chunk),
     serverError: (code, message) => {
       lastError = `${code}: ${message}`;
       toast(`${message} (${code})`, 'error');
@@ -139,6 +164,13 @@ const nav = new NavigationPanel(api, live.mapView, () => live.lastPose);
 nav.renderObstacles();
 const maps = new MapsPage(byId('page-maps'), api);
 const runs = new RunsPage(byId('page-runs'), api);
+const cloud3d = new CloudPage(byId('page-3d'), api);
+const ipabd = new IpabdOverlay(api, live.mapView, byId('layer-ipabd-status'));
+byId<HTMLInputElement>('layer-ipabd').addEventListener('change', (e) => {
+  const on = (e.target as HTMLInputElement).checked;
+  document.body.classList.toggle('ipabd', on);
+  ipabd.setEnabled(on);
+});
 
 window.__mobot = {
   get scansDrawn() {
@@ -209,6 +241,24 @@ window.__mobot = {
   mapToClient(x: number, y: number) {
     return live.mapView.mapToClient(x, y);
   },
+  get sweep() {
+    const t = cloud3d.tracker;
+    return {
+      id: t.id,
+      status: t.status,
+      progress: t.progress,
+      scansDone: t.scansDone,
+      scansTotal: t.scansTotal,
+      points: t.cloud.count,
+      drawnPoints: cloud3d.view?.drawnPoints ?? 0,
+      progressSeen: [...cloud3d.progressSeen],
+      error: cloud3d.lastError,
+      viewReady: cloud3d.view !== null,
+    };
+  },
+  get ipabdCells() {
+    return live.mapView.obstacleCells;
+  },
 };
 
 // ---- connection ----
@@ -231,6 +281,8 @@ function showConnection(state: ConnectionState, detail: string): void {
   if (state === 'connected') {
     void loadServerInfo();
     void nav.load();
+    void cloud3d.connected();
+    if (ipabd.enabled) void ipabd.refresh();
     if (currentPage !== 'live') void refreshPage(currentPage);
   }
 }
@@ -320,6 +372,7 @@ byId('estop-release').addEventListener('click', () => void setEstop(false));
 async function refreshPage(page: string): Promise<void> {
   if (page === 'maps') await maps.refresh();
   if (page === 'runs') await runs.refresh();
+  if (page === '3d') await cloud3d.show();
 }
 
 function showPage(page: string): void {
@@ -336,6 +389,7 @@ function showPage(page: string): void {
   live.teleop.enabled = page === 'live';
   nav.enabled = page === 'live';
   if (page !== 'live') nav.setMode(null);
+  if (page !== '3d') cloud3d.hide();
   if (window.location.hash !== `#${page}`) window.history.replaceState(null, '', `#${page}`);
   void refreshPage(page);
 }
@@ -366,7 +420,7 @@ async function start(): Promise<void> {
 }
 
 const initial = window.location.hash.replace('#', '');
-if (initial === 'maps' || initial === 'runs') showPage(initial);
+if (initial === 'maps' || initial === 'runs' || initial === '3d') showPage(initial);
 window.addEventListener('unhandledrejection', (e) => {
   lastError = errorText(e.reason);
 });

@@ -7,6 +7,8 @@ import { mapCorners, scanEndpoints, UNKNOWN_CELL } from './frames';
 import type { LaserScan, MapGrid, Pose2D } from './frames';
 import { covarianceEllipse, dragHeading, headingSigma } from './goals';
 import type { GoalStatus } from './goals';
+import { countObstacleCells, obstacleCellPixels, paintObstacleCells } from './ipabd';
+import type { ObstacleGrid } from './ipabd';
 import { boundsOf, ViewTransform, wheelZoomFactor } from './view';
 import type { Bounds } from './view';
 
@@ -128,6 +130,12 @@ export class MapView {
   private readonly ctx: CanvasRenderingContext2D;
   private map: MapGrid | null = null;
   private mapImage: HTMLCanvasElement | null = null;
+  /** IPaBD obstacle map of a 3D sweep, pre-painted (occupied cells only) at `obstaclePixels` px per cell. */
+  private obstacleGrid: ObstacleGrid | null = null;
+  private obstacleImage: HTMLCanvasElement | null = null;
+  private obstaclePixels = 1;
+  /** Occupied IPaBD cells in the overlay (0 without one); also on the canvas as data-ipabd-cells once drawn. */
+  obstacleCells = 0;
   private pose: Pose2D | null = null;
   private cov: readonly number[] | null = null;
   private path: Float64Array = new Float64Array(0);
@@ -199,6 +207,28 @@ export class MapView {
       previous.resolution !== map.resolution;
     if (changedShape && !this.userMoved) this.needsFit = true;
     this.mapShown = true;
+    this.dirty = true;
+  }
+
+  /** The 3D sweep's IPaBD obstacle map to draw over the map as translucent squares, or null. */
+  setObstacleGrid(grid: ObstacleGrid | null): void {
+    this.obstacleGrid = grid;
+    this.obstacleImage = null;
+    this.obstacleCells = grid ? countObstacleCells(grid) : 0;
+    if (grid && grid.width > 0 && grid.height > 0) {
+      const k = obstacleCellPixels(grid.width, grid.height);
+      const image = document.createElement('canvas');
+      image.width = grid.width * k;
+      image.height = grid.height * k;
+      const ctx = image.getContext('2d');
+      if (ctx) {
+        const data = ctx.createImageData(image.width, image.height);
+        paintObstacleCells(grid, new Uint32Array(data.data.buffer), k);
+        ctx.putImageData(data, 0, 0);
+        this.obstacleImage = image;
+        this.obstaclePixels = k;
+      }
+    }
     this.dirty = true;
   }
 
@@ -494,6 +524,7 @@ export class MapView {
 
     if (this.map && this.mapImage) this.drawMap(this.map, this.mapImage);
     else this.drawGrid();
+    this.drawObstacleGrid();
 
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     if (this.layers.sonar) this.drawSonar();
@@ -525,6 +556,21 @@ export class MapView {
     ctx.scale(map.resolution, map.resolution);
     ctx.imageSmoothingEnabled = false;
     ctx.drawImage(image, 0, 0);
+    ctx.imageSmoothingEnabled = true;
+  }
+
+  private drawObstacleGrid(): void {
+    const grid = this.obstacleGrid;
+    const drawn = grid && this.obstacleImage ? this.obstacleCells : 0;
+    if (this.canvas.dataset.ipabdCells !== String(drawn)) this.canvas.dataset.ipabdCells = String(drawn);
+    if (!grid || !this.obstacleImage) return;
+    const ctx = this.ctx;
+    ctx.setTransform(...this.view.matrix(this.dpr));
+    ctx.translate(grid.origin.x, grid.origin.y);
+    ctx.rotate(grid.origin.theta);
+    ctx.scale(grid.resolution / this.obstaclePixels, grid.resolution / this.obstaclePixels);
+    ctx.imageSmoothingEnabled = false;
+    ctx.drawImage(this.obstacleImage, 0, 0);
     ctx.imageSmoothingEnabled = true;
   }
 

@@ -1,11 +1,11 @@
 // The WebSocket stream of mobotd: connects with ?token=, subscribes on hello, decodes JSON and
 // binary frames, measures latency (ping/pong and wall_us), and reconnects with exponential backoff.
 
-import { decodeBinaryFrame, FrameError, mapFromJson, scanFromJson } from './frames';
-import type { FrameHeader, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
+import { cloudFromJson, decodeBinaryFrame, FrameError, mapFromJson, scanFromJson } from './frames';
+import type { CloudChunk, FrameHeader, JsonCloud, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
 import { backoffDelayMs, StreamStats } from './stats';
 
-export const WANTED_TOPICS = ['pose', 'odom', 'scan', 'sonar', 'map', 'status', 'events', 'truth', 'goal', 'path'];
+export const WANTED_TOPICS = ['pose', 'odom', 'scan', 'sonar', 'map', 'status', 'events', 'truth', 'goal', 'path', 'cloud'];
 
 export type ConnectionState = 'connecting' | 'connected' | 'disconnected' | 'auth_error';
 
@@ -34,6 +34,8 @@ export interface StreamHandlers {
   json?(topic: string, data: unknown, meta: FrameMeta): void;
   scan?(scan: LaserScan, meta: FrameMeta): void;
   map?(map: MapGrid, meta: FrameMeta): void;
+  /** A chunk of a 3D sweep's point cloud (one tilting-laser scan). */
+  cloud?(chunk: CloudChunk, meta: FrameMeta): void;
   /** `{"op":"error"}` replies: unknown op/topic, teleop refused (estop_engaged, forbidden) ... */
   serverError?(code: string, message: string): void;
   teleopAck?(v: number, w: number): void;
@@ -286,6 +288,7 @@ export class StreamClient {
     try {
       if (topic === 'scan' && handlers.scan) handlers.scan(scanFromJson(message.data as JsonScan), meta);
       else if (topic === 'map' && handlers.map) handlers.map(mapFromJson(message.data as JsonMap), meta);
+      else if (topic === 'cloud' && handlers.cloud) handlers.cloud(cloudFromJson(message.data as JsonCloud), meta);
       else handlers.json?.(topic, message.data, meta);
     } catch (error) {
       console.warn(`mobot: bad ${topic} frame`, error);
@@ -303,6 +306,7 @@ export class StreamClient {
       this.stats.record(header.topic, header.seq, wallUs, Date.now(), buffer.byteLength);
       if (frame.kind === 'scan') this.options.handlers.scan?.(frame.scan, meta);
       else if (frame.kind === 'map') this.options.handlers.map?.(frame.map, meta);
+      else if (frame.kind === 'cloud') this.options.handlers.cloud?.(frame.cloud, meta);
     } catch (error) {
       if (error instanceof FrameError) console.warn('mobot: bad binary frame:', error.message);
       else throw error;

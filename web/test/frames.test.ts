@@ -1,5 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import {
+  cloudFromJson,
   decodeBinaryFrame,
   FrameError,
   isReturn,
@@ -53,6 +54,23 @@ function mapBody(width: number, height: number, cells: number[], id = 7): ArrayB
   view.setUint32(24, id, true);
   view.setUint32(28, 0, true);
   new Uint8Array(body, 32).set(cells);
+  return body;
+}
+
+/** A cloud body (topic 3): 32-byte sub-header, then x, y, z, intensity per point. */
+function cloudBody(
+  points: number[][],
+  opts: { sweepId?: number; first?: number; count?: number; flags?: number; scansDone?: number; scansTotal?: number } = {},
+): ArrayBuffer {
+  const body = new ArrayBuffer(32 + points.length * 16);
+  const view = new DataView(body);
+  view.setUint32(0, opts.sweepId ?? 9, true);
+  view.setUint32(4, opts.first ?? 0, true);
+  view.setUint32(8, opts.count ?? points.length, true);
+  view.setUint32(12, opts.flags ?? 0, true);
+  view.setUint32(16, opts.scansDone ?? 1, true);
+  view.setUint32(20, opts.scansTotal ?? 24, true);
+  points.forEach((p, i) => p.forEach((v, k) => view.setFloat32(32 + 16 * i + 4 * k, v, true)));
   return body;
 }
 
@@ -175,5 +193,66 @@ describe('map frames', () => {
 
   it('leaves unknown topics to the caller', () => {
     expect(decodeBinaryFrame(frame(5, new ArrayBuffer(8))).kind).toBe('other');
+  });
+});
+
+describe('cloud frames', () => {
+  const points = [
+    [1, 2, 0.5, 0.25],
+    [-3, 4.5, 1.75, 1],
+    [0, 0, -0.125, 0],
+  ];
+
+  it('decodes sweep id, first index, count, last flag, scans and the points (a view, not a copy)', () => {
+    const decoded = decodeBinaryFrame(frame(3, cloudBody(points, { sweepId: 12, first: 721, flags: 1, scansDone: 24, scansTotal: 24 })));
+    expect(decoded.kind).toBe('cloud');
+    if (decoded.kind !== 'cloud') return;
+    const c = decoded.cloud;
+    expect(c).toMatchObject({ sweepId: 12, first: 721, count: 3, last: true, scansDone: 24, scansTotal: 24 });
+    expect(Array.from(c.points)).toEqual(points.flat());
+    expect(c.points.buffer.byteLength).toBeGreaterThan(c.points.byteLength);
+  });
+
+  it('reads the last flag from bit 0 only', () => {
+    const running = decodeBinaryFrame(frame(3, cloudBody(points, { flags: 2 })));
+    if (running.kind !== 'cloud') throw new Error('not a cloud');
+    expect(running.cloud.last).toBe(false);
+  });
+
+  it('honours a header_bytes larger than 32 (aligned and not)', () => {
+    for (const headerBytes of [40, 46]) {
+      const decoded = decodeBinaryFrame(frame(3, cloudBody(points, { first: 5 }), { headerBytes }));
+      expect(decoded.header.headerBytes).toBe(headerBytes);
+      if (decoded.kind !== 'cloud') throw new Error('not a cloud');
+      expect(decoded.cloud.first).toBe(5);
+      expect(Array.from(decoded.cloud.points)).toEqual(points.flat());
+    }
+  });
+
+  it('accepts an empty chunk', () => {
+    const decoded = decodeBinaryFrame(frame(3, cloudBody([], { flags: 1 })));
+    if (decoded.kind !== 'cloud') throw new Error('not a cloud');
+    expect(decoded.cloud.count).toBe(0);
+    expect(decoded.cloud.last).toBe(true);
+  });
+
+  it('rejects a truncated frame', () => {
+    const whole = frame(3, cloudBody(points));
+    expect(() => decodeBinaryFrame(whole.slice(0, whole.byteLength - 4))).toThrow(FrameError);
+    expect(() => decodeBinaryFrame(whole.slice(0, 32 + 20))).toThrow(/cloud body too short/);
+  });
+
+  it('rejects a count that disagrees with the points in the body', () => {
+    expect(() => decodeBinaryFrame(frame(3, cloudBody(points, { count: 4 })))).toThrow(/fewer than 4 points/);
+    expect(() => decodeBinaryFrame(frame(3, cloudBody(points, { count: 2 })))).toThrow(/count 2/);
+  });
+
+  it('decodes the JSON encoding to the same shape and rejects a count mismatch', () => {
+    const json = { sweep_id: 4, first: 10, count: 2, last: false, scans_done: 3, scans_total: 80, points: [[1, 2, 3, 0.5], [4, 5, null as unknown as number, 1]] };
+    const c = cloudFromJson(json);
+    expect(c).toMatchObject({ sweepId: 4, first: 10, count: 2, last: false, scansDone: 3, scansTotal: 80 });
+    expect(Array.from(c.points.subarray(0, 4))).toEqual([1, 2, 3, 0.5]);
+    expect(Number.isNaN(c.points[6])).toBe(true); // JSON null: no coordinate
+    expect(() => cloudFromJson({ ...json, count: 3 })).toThrow(FrameError);
   });
 });
