@@ -136,7 +136,9 @@ void Robot::scan_sweep() {
 }
 
 void Robot::end_sweep(std::optional<SweepOutcome> outcome) {
-  if (outcome && sweep_listener_) sweep_listener_(std::move(*outcome));
+  if (!outcome || !sweep_listener_) return;
+  outcome->map_generation = map_generation_;
+  sweep_listener_(std::move(*outcome));
 }
 
 void Robot::set_sweep_listener(std::function<void(SweepOutcome)> listener) {
@@ -163,12 +165,13 @@ geometry::Point2D Robot::obstacle_lattice() const {
   return obstacle_layer_.lattice_origin();
 }
 
-std::optional<int> Robot::apply_3d_obstacles(const mapping::OccupancyGrid& observed) {
+std::optional<int> Robot::apply_3d_obstacles(const mapping::OccupancyGrid& observed,
+                                             std::uint64_t map_generation) {
   std::shared_ptr<const mapping::OccupancyGrid> layer;
   std::uint64_t generation = 0;
   {
     std::lock_guard lock(mutex_);
-    if (obstacle_layer_.empty()) return std::nullopt;
+    if (obstacle_layer_.empty() || map_generation != map_generation_) return std::nullopt;
     obstacle_layer_.apply(observed);
     layer = std::make_shared<const mapping::OccupancyGrid>(obstacle_layer_.grid());
     generation = map_generation_;

@@ -68,9 +68,10 @@ class Robot {
   // The 3D-obstacle layer's cell corners, for IPaBD to compute on the same lattice.
   geometry::Point2D obstacle_lattice() const;
   // Merges an IPaBD result (undilated: planning inflates) into the 3D-obstacle layer and plans on
-  // it from now on. Returns the layer's occupied cells, or nullopt when the map changed
-  // meanwhile and the result was dropped.
-  std::optional<int> apply_3d_obstacles(const mapping::OccupancyGrid& observed);
+  // it from now on. Returns the layer's occupied cells, or nullopt when the active map is no
+  // longer the one of `map_generation` (SweepOutcome::map_generation) and the result was dropped.
+  std::optional<int> apply_3d_obstacles(const mapping::OccupancyGrid& observed,
+                                        std::uint64_t map_generation);
 
   // Zero command at once, bypassing the smoother: used on shutdown.
   void halt();

@@ -21,6 +21,8 @@ struct SweepOutcome {
   geometry::Point2D origin_in_map;  // where the tilt axis stood at the first scan
   double started_s = 0.0;
   double ended_s = 0.0;
+  // The active map's generation when the sweep ended: its cells belong on that map only.
+  std::uint64_t map_generation = 0;
 };
 
 struct SweepProgress {

@@ -102,7 +102,9 @@ void Sweeps::finish(const SweepOutcome& outcome) {
       const perception::IpabdResult result =
           perception::run_ipabd(outcome.cloud, outcome.origin_in_map, ipabd);
       std::optional<int> layer_cells;
-      if (options_.obstacle_layer) layer_cells = robot_.apply_3d_obstacles(result.obstacles);
+      if (options_.obstacle_layer) {
+        layer_cells = robot_.apply_3d_obstacles(result.obstacles, outcome.map_generation);
+      }
       store_.finish(outcome.id, outcome.ended_s, outcome.cloud, result.dilated);
       nlohmann::json detail{{"points", outcome.cloud.size()},
                             {"ipabd_bins", result.bins.size()},
