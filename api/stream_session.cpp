@@ -205,7 +205,7 @@ void StreamSession::subscribe(const nlohmann::json& request) {
       std::lock_guard lock(mutex_);
       Subscription& subscription = subscriptions_[topic_index(*topic)];
       if (subscription.active) hub_.count_subscription(*topic, subscription.binary, -1);
-      subscription = {true, topic_binary, min_interval_us, 0};
+      subscription = {true, topic_binary, topic_spec(*topic).sampled ? min_interval_us : 0, 0};
     }
     hub_.count_subscription(*topic, topic_binary, +1);
     wants_map = wants_map || *topic == TopicId::kMap;

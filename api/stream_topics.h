@@ -28,20 +28,23 @@ struct TopicSpec {
   std::string_view name;
   std::uint16_t binary_id;  // 0: JSON only
   bool sim_only;
+  // A stream of samples where only the newest matters, which max_rate_hz may thin. The others
+  // (map, events, goals, paths, cloud chunks) lose information when a message is skipped.
+  bool sampled;
 };
 
 inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
-    {TopicId::kPose, "pose", 0, false},
-    {TopicId::kOdom, "odom", 0, false},
-    {TopicId::kScan, "scan", 1, false},
-    {TopicId::kSonar, "sonar", 0, false},
-    {TopicId::kMap, "map", 2, false},
-    {TopicId::kStatus, "status", 0, false},
-    {TopicId::kEvents, "events", 0, false},
-    {TopicId::kTruth, "truth", 0, true},
-    {TopicId::kPath, "path", 0, false},
-    {TopicId::kGoal, "goal", 0, false},
-    {TopicId::kCloud, "cloud", 3, false},
+    {TopicId::kPose, "pose", 0, false, true},
+    {TopicId::kOdom, "odom", 0, false, true},
+    {TopicId::kScan, "scan", 1, false, true},
+    {TopicId::kSonar, "sonar", 0, false, true},
+    {TopicId::kMap, "map", 2, false, false},
+    {TopicId::kStatus, "status", 0, false, true},
+    {TopicId::kEvents, "events", 0, false, false},
+    {TopicId::kTruth, "truth", 0, true, true},
+    {TopicId::kPath, "path", 0, false, false},
+    {TopicId::kGoal, "goal", 0, false, false},
+    {TopicId::kCloud, "cloud", 3, false, false},
 }};
 
 inline constexpr const TopicSpec& topic_spec(TopicId id) {

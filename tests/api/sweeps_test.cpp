@@ -194,6 +194,10 @@ TEST_F(SweepsTest, TheCloudStreamsProgressivelyWhileTheSweepRuns) {
   WsClient stream(port(), viewer_token());
   stream.send({{"op", "subscribe"}, {"topics", {"cloud"}}, {"encoding", "binary"}});
   ASSERT_TRUE(stream.read_until("subscribed").has_value());
+  // A rate limit thins samples, never the chunks of a cloud.
+  WsClient thinned(port(), viewer_token());
+  thinned.send({{"op", "subscribe"}, {"topics", {"cloud", "pose"}}, {"max_rate_hz", 1}});
+  ASSERT_TRUE(thinned.read_until("subscribed").has_value());
   const std::int64_t id = start_sweep(operator_client(), json{{"period_s", 10}, {"step_deg", 0.5}});
   std::uint32_t next_first = 0;
   std::uint32_t scans_seen = 0;
@@ -215,6 +219,9 @@ TEST_F(SweepsTest, TheCloudStreamsProgressivelyWhileTheSweepRuns) {
   EXPECT_EQ(scans_seen, 40U);
   const json done = wait_sweep_end(viewer(), id);
   EXPECT_EQ(done.at("points").get<std::uint32_t>(), next_first);
+  int thinned_chunks = 0;
+  for (const auto& frame : thinned.read_all_for(500ms)) thinned_chunks += frame.binary() ? 1 : 0;
+  EXPECT_EQ(thinned_chunks, 40);
   // The same data as JSON on request.
   WsClient json_stream(port(), viewer_token());
   json_stream.send({{"op", "subscribe"}, {"topics", {"cloud"}}, {"encoding", "json"}});
