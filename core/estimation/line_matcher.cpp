@@ -28,12 +28,21 @@ bool endpoints_fit(const geometry::Pose2D& pose, const perception::LineSegment& 
              options.endpoint_gate_m;
 }
 
+// A map face is seen only from its free side: the robot cannot be behind it. This rejects the far
+// face of a thin wall, which is parallel to the near one and would otherwise match whenever the
+// pose estimate is off by about the wall's thickness.
+bool faces_the_robot(const geometry::Pose2D& pose, const perception::LineSegment& map_line) {
+  if (map_line.free_side == 0) return true;
+  return perception::signed_distance(map_line, {pose.x, pose.y}) * map_line.free_side > 0.0;
+}
+
 std::optional<LineMatch> gated_candidate(const geometry::Pose2D& pose,
                                          const Eigen::Matrix3d& covariance,
                                          const perception::LineSegment& observed,
                                          const Eigen::Matrix2d& noise,
                                          const perception::LineSegment& map_line,
                                          const LineMatcherOptions& options) {
+  if (!faces_the_robot(pose, map_line)) return std::nullopt;
   LineMatch match;
   match.prediction = predict_line_measurement(pose, map_line, observed.alpha_rad);
   match.innovation = line_innovation(observed, match.prediction);

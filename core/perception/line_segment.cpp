@@ -26,6 +26,7 @@ LineSegment normalized(LineSegment line) {
     line.rho_m = -line.rho_m;
     line.alpha_rad += std::numbers::pi;
     line.cov_rho_alpha_m_rad = -line.cov_rho_alpha_m_rad;
+    line.free_side = -line.free_side;
   }
   line.alpha_rad = geometry::wrap_angle(line.alpha_rad);
   return line;

@@ -22,6 +22,11 @@ struct LineSegment {
   double cov_rho_alpha_m_rad = 0.0;
   // How many scan points or grid cells support the fit (0 when unknown).
   int point_count = 0;
+  // The side of a wall face that is free space, so a sensor can only see the face from there:
+  // +1 away from the frame's origin (signed_distance > 0), -1 toward it, 0 unknown (a line fitted
+  // to a scan). Map faces have it; it tells apart the two faces of a thin wall, whose lines are
+  // parallel and a wall's thickness apart.
+  int free_side = 0;
 
   double length_m() const;
 };
@@ -30,7 +35,7 @@ struct LineSegment {
 bool is_valid(const LineSegment& line);
 
 // Brings (rho, alpha) into the canonical form rho >= 0, alpha in (-pi, pi]. Flipping the sign of
-// rho negates the rho-alpha covariance.
+// rho negates the rho-alpha covariance and the free side.
 LineSegment normalized(LineSegment line);
 
 // A line given in the frame of `frame`, returned in frame's parent, with its covariance

@@ -225,6 +225,7 @@ std::optional<LineSegment> wall_face(const std::vector<cv::Point>& outline, Piec
   const double shift_m = 0.5 * res;
   line.rho_m = (line.rho_m - (std::cos(line.alpha_rad) + std::sin(line.alpha_rad))) * res +
                outward * shift_m;
+  line.free_side = outward > 0.0 ? 1 : -1;
   line = normalized(line);
   const geometry::Point2D head_m{(head.x - 0.5) * res, (head.y - 0.5) * res};
   const geometry::Point2D tail_m{(tail.x - 0.5) * res, (tail.y - 0.5) * res};

@@ -779,11 +779,10 @@ TEST_F(LocalizationTest, SetPoseReinitialisesTheEstimate) {
   EXPECT_DOUBLE_EQ(detail.value("y", 0.0), 8.0) << event.dump();
 }
 
-// Known limitation, not yet fixed: from an initial pose 0.15 m off along x the laser line
-// matcher pairs a scan line with the opposite face of a 0.15 m inner wall and the EKF settles,
-// confidently, 0.146 m off (see the closing note of the navigation issue). Larger and smaller
-// offsets converge. Enable once line matching rejects face-swapped matches.
-TEST_F(LocalizationTest, DISABLED_ARoughPoseIsRefinedByTheSensors) {
+// C7's workflow from a pose 0.15 m off: about the thickness of the inner wall beside the corridor,
+// so matching a scan line to the wall's far face would fit the offset exactly. The map faces know
+// their free side, and the far face cannot be seen from the robot's side.
+TEST_F(LocalizationTest, ARoughPoseIsRefinedByTheSensors) {
   // C7's workflow: a rough initial pose (default covariance: 0.25 m, 0.1 rad), then drive.
   const json body{{"x", 2.15}, {"y", 7.4}, {"theta", 0.05}};
   const HttpReply reply = operator_client().post("/api/v1/localization/pose", body);

@@ -57,6 +57,29 @@ TEST(LineMatcher, PicksTheNearerOfTwoParallelLines) {
   EXPECT_EQ(far[0].map_index, 1);
 }
 
+TEST(LineMatcher, TheFarFaceOfAThinWallIsNeverMatched) {
+  // The two faces of a 0.15 m wall; free space below the lower face and above the upper one.
+  auto map = wall_lines({{{0.0, 3.0}, {10.0, 3.0}}, {{0.0, 3.15}, {10.0, 3.15}}});
+  map[0].free_side = -1;  // toward the origin
+  map[1].free_side = 1;
+  const geometry::Pose2D truth{4.0, 1.0, 0.0};
+  // An estimate 0.15 m too near the wall: the near face's observation now predicts the far face
+  // exactly, but the robot is not on the far face's free side.
+  const geometry::Pose2D estimate{4.0, 1.15, 0.0};
+  // The rough pose of a manual initialisation (0.25 m, 0.1 rad), under which both faces pass the
+  // gates.
+  const Eigen::Matrix3d rough = Eigen::Vector3d(0.0625, 0.0625, 0.01).asDiagonal();
+  const auto matches = match_lines(estimate, rough, {observe(map[0], truth)}, map);
+  ASSERT_EQ(matches.size(), 1U);
+  EXPECT_EQ(matches[0].map_index, 0);
+  // Without the free side the far face wins.
+  map[0].free_side = 0;
+  map[1].free_side = 0;
+  const auto unsided = match_lines(estimate, rough, {observe(map[0], truth)}, map);
+  ASSERT_EQ(unsided.size(), 1U);
+  EXPECT_EQ(unsided[0].map_index, 1);
+}
+
 TEST(LineMatcher, GatesRejectFarLines) {
   const auto map = wall_lines({{{0.0, 3.0}, {10.0, 3.0}}});
   const geometry::Pose2D pose{4.0, 1.0, 0.0};

@@ -97,6 +97,33 @@ TEST(MapLineExtractor, ThinWallGivesBothFaces) {
   // Faces at y = 30 and 31 cells; the origin lies below both.
   EXPECT_GE(find_line(lines, 30 * kRes, kPi / 2, 1e-6, 1e-6), 0) << describe(lines);
   EXPECT_GE(find_line(lines, 31 * kRes, kPi / 2, 1e-6, 1e-6), 0) << describe(lines);
+  // The lower face looks onto free space toward the origin, the upper one away from it.
+  EXPECT_EQ(lines[static_cast<std::size_t>(find_line(lines, 30 * kRes, kPi / 2, 1e-6, 1e-6))]
+                .free_side,
+            -1);
+  EXPECT_EQ(lines[static_cast<std::size_t>(find_line(lines, 31 * kRes, kPi / 2, 1e-6, 1e-6))]
+                .free_side,
+            1);
+}
+
+TEST(MapLineExtractor, EveryFaceKnowsItsFreeSideInTheMapFrame) {
+  // A rotated, shifted map: the free side must survive the move into the map frame.
+  OccupancyGrid grid(120, 80, kRes, {3.0, -2.0, 0.7});
+  draw_room(grid, 10, 10, 109, 69, 2);
+  for (int x = 30; x < 90; ++x) grid.set({x, 40}, OccupancyGrid::kOccupied);
+  const auto lines = extract_map_lines(grid);
+  ASSERT_GE(lines.size(), 6U) << describe(lines);
+  for (const auto& line : lines) {
+    ASSERT_NE(line.free_side, 0);
+    const geometry::Point2D mid{(line.start.x + line.end.x) / 2, (line.start.y + line.end.y) / 2};
+    const double nx = std::cos(line.alpha_rad) * line.free_side;
+    const double ny = std::sin(line.alpha_rad) * line.free_side;
+    const auto free_cell = grid.cell_at({mid.x + 0.08 * nx, mid.y + 0.08 * ny});
+    const auto wall_cell = grid.cell_at({mid.x - 0.02 * nx, mid.y - 0.02 * ny});
+    ASSERT_TRUE(free_cell && wall_cell);
+    EXPECT_EQ(grid.at(*free_cell), OccupancyGrid::kFree) << describe({line});
+    EXPECT_EQ(grid.at(*wall_cell), OccupancyGrid::kOccupied) << describe({line});
+  }
 }
 
 TEST(MapLineExtractor, DiagonalWallIsOneLinePerFace) {
