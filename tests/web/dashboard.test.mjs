@@ -363,7 +363,9 @@ async function main() {
       const status = (await page.textContent('[data-testid=goal-status]'))?.trim();
       const options = await page.$$eval('[data-testid=goal-controller] option', (els) => els.map((e) => `${e.value}${e.disabled ? '(off)' : ''}`));
       if (!options.includes('lyapunov')) throw new Error(`controller options: ${options.join(', ')}`);
-      return `status "${status}", controllers ${options.join(' ')}`;
+      const planners = await page.$$eval('[data-testid=goal-planner] option', (els) => els.map((e) => `${e.value}${e.disabled ? '(off)' : ''}`));
+      if (!planners.includes('astar') || !planners.includes('voronoi')) throw new Error(`planner options: ${planners.join(', ')}`);
+      return `status "${status}", planners ${planners.join(' ')}, controllers ${options.join(' ')}`;
     });
 
     // Goal navigation runs the simulator 5x faster; the clock goes back to 1x afterwards.

@@ -39,7 +39,7 @@ export function isFinished(goal: Pick<Goal, 'status'> | null | undefined): boole
 /** Planners and controllers of the contract; `available` are the ones this server build runs. */
 export const PLANNERS = [
   { name: 'astar', label: 'A* (grid)', available: true },
-  { name: 'voronoi', label: 'Voronoi', available: false },
+  { name: 'voronoi', label: 'Voronoi roadmap', available: true },
 ] as const;
 
 export const CONTROLLERS = [
