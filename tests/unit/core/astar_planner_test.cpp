@@ -231,38 +231,6 @@ TEST(AStarPlanner, ReturnsWorldPointsEndingExactlyAtStartAndGoal) {
   EXPECT_EQ(same_cell.points_in_map.size(), 2U);
 }
 
-TEST(AStarPlanner, ReportsEachError) {
-  PlanningGrid grid = make_grid(20, 20);                                       // 2 x 2 m
-  for (int y = 0; y < 20; ++y) grid.set_cost({10, y}, PlanningGrid::kLethal);  // a full wall
-  grid.set_cost({15, 15}, PlanningGrid::kInscribed);
-  grid.set_cost({16, 16}, PlanningGrid::kUnknown);
-  AStarPlanner planner;
-  const geometry::Pose2D start{0.25, 0.25, 0.0};
-  const auto error_of = [&](const geometry::Pose2D& s, const geometry::Pose2D& g) {
-    const PlanResult r = planner.plan(grid, s, g);
-    EXPECT_TRUE(r.cells.empty());
-    return r.error;
-  };
-  EXPECT_EQ(error_of(start, {2.5, 0.5, 0.0}), PlanError::kGoalOutsideMap);
-  EXPECT_EQ(error_of(start, {-0.01, 0.5, 0.0}), PlanError::kGoalOutsideMap);
-  EXPECT_EQ(error_of({-3.0, 0.0, 0.0}, {0.5, 0.5, 0.0}), PlanError::kStartOutsideMap);
-  EXPECT_EQ(error_of(start, {1.05, 0.5, 0.0}), PlanError::kGoalInObstacle);   // lethal
-  EXPECT_EQ(error_of(start, {1.55, 1.55, 0.0}), PlanError::kGoalInObstacle);  // inscribed
-  EXPECT_EQ(error_of(start, {1.65, 1.65, 0.0}), PlanError::kGoalInObstacle);  // unknown
-  EXPECT_EQ(error_of(start, {1.85, 0.5, 0.0}), PlanError::kNoPath);           // behind the wall
-  EXPECT_EQ(error_of({std::nan(""), 0.2, 0.0}, {0.5, 0.5, 0.0}), PlanError::kInvalidPose);
-  EXPECT_EQ(error_of(start, {0.5, std::numeric_limits<double>::infinity(), 0.0}),
-            PlanError::kInvalidPose);
-  EXPECT_EQ(error_of(start, {0.5, 0.5, std::nan("")}), PlanError::kInvalidPose);
-  EXPECT_EQ(planner.plan(PlanningGrid(), start, {0.5, 0.5, 0.0}).error, PlanError::kNoMap);
-
-  EXPECT_EQ(error_code(PlanError::kGoalOutsideMap), "goal_outside_map");
-  EXPECT_EQ(error_code(PlanError::kGoalInObstacle), "goal_in_obstacle");
-  EXPECT_EQ(error_code(PlanError::kStartInObstacle), "start_in_obstacle");
-  EXPECT_EQ(error_code(PlanError::kNoPath), "no_path");
-  EXPECT_EQ(error_code(PlanError::kInvalidPose), "invalid_pose");
-}
-
 TEST(AStarPlanner, StartInInflationEscapesToTheNearestFreeCell) {
   // A wall at x = 10 inflated: x 7..9 inscribed, robot at x = 8 touching it.
   PlanningGrid grid = make_grid(20, 10);

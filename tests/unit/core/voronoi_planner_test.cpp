@@ -204,39 +204,6 @@ TEST(VoronoiPlanner, FollowsTheRoadmapWhereItConnects) {
   EXPECT_GT(static_cast<double>(on), 0.8 * static_cast<double>(result.cells.size()));
 }
 
-TEST(VoronoiPlanner, ReportsEachError) {
-  PlanningGrid grid(20, 20, 0.1, {});                                          // 2 x 2 m
-  for (int y = 0; y < 20; ++y) grid.set_cost({10, y}, PlanningGrid::kLethal);  // a full wall
-  grid.set_cost({15, 15}, PlanningGrid::kInscribed);
-  grid.set_cost({16, 16}, PlanningGrid::kUnknown);
-  VoronoiPlanner planner;
-  const geometry::Pose2D start{0.25, 0.25, 0.0};
-  const auto error_of = [&](const geometry::Pose2D& s, const geometry::Pose2D& g) {
-    const PlanResult r = planner.plan(grid, s, g);
-    EXPECT_TRUE(r.cells.empty());
-    EXPECT_TRUE(r.points_in_map.empty());
-    return r.error;
-  };
-  EXPECT_EQ(error_of(start, {2.5, 0.5, 0.0}), PlanError::kGoalOutsideMap);
-  EXPECT_EQ(error_of(start, {-0.01, 0.5, 0.0}), PlanError::kGoalOutsideMap);
-  EXPECT_EQ(error_of({-3.0, 0.0, 0.0}, {0.5, 0.5, 0.0}), PlanError::kStartOutsideMap);
-  EXPECT_EQ(error_of(start, {1.05, 0.5, 0.0}), PlanError::kGoalInObstacle);   // lethal
-  EXPECT_EQ(error_of(start, {1.55, 1.55, 0.0}), PlanError::kGoalInObstacle);  // inscribed
-  EXPECT_EQ(error_of(start, {1.65, 1.65, 0.0}), PlanError::kGoalInObstacle);  // unknown
-  EXPECT_EQ(error_of(start, {1.85, 0.5, 0.0}), PlanError::kNoPath);           // behind the wall
-  EXPECT_EQ(error_of({std::nan(""), 0.2, 0.0}, {0.5, 0.5, 0.0}), PlanError::kInvalidPose);
-  EXPECT_EQ(error_of(start, {0.5, std::numeric_limits<double>::infinity(), 0.0}),
-            PlanError::kInvalidPose);
-  EXPECT_EQ(error_of(start, {0.5, 0.5, std::nan("")}), PlanError::kInvalidPose);
-  EXPECT_EQ(planner.plan(PlanningGrid(), start, {0.5, 0.5, 0.0}).error, PlanError::kNoMap);
-
-  // Deep inside an obstacle: no traversable cell within the escape distance.
-  PlanningGrid blocked(20, 20, 0.1, {}, PlanningGrid::kInscribed);
-  blocked.set_cost({1, 1}, PlanningGrid::kFree);
-  EXPECT_EQ(planner.plan(blocked, {1.55, 1.55, 0.0}, {0.15, 0.15, 0.0}).error,
-            PlanError::kStartInObstacle);
-}
-
 TEST(VoronoiPlanner, StartInInflationEscapesToTheNearestFreeCell) {
   // As the A* test: a wall at x = 10 inflated over x 7..9, the robot at x = 8 touching it.
   PlanningGrid grid(20, 10, 0.1, {});
