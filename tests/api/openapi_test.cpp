@@ -3,6 +3,7 @@
 // lists.
 #include <algorithm>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "support/api_test.h"
@@ -352,6 +353,25 @@ TEST_F(OpenApiTest, StreamDocumentsThePathAndGoalTopics) {
   for (const char* name : {"path", "goal"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), json(name)), names.end()) << name;
   }
+}
+
+// The topics a client may subscribe to are the ones the server's hello advertises, no more, no
+// fewer: a topic added to the server must be added to the document.
+TEST_F(OpenApiTest, StreamTopicsAreTheOnesTheServerOffers) {
+  const json doc = document();
+  const json& names = doc.at("components")
+                          .at("schemas")
+                          .at("StreamSubscribe")
+                          .at("properties")
+                          .at("topics")
+                          .at("items")
+                          .at("enum");
+  std::set<std::string> documented;
+  for (const auto& name : names) documented.insert(name.get<std::string>());
+  WsClient stream(port(), viewer_token());
+  std::set<std::string> offered;
+  for (const auto& topic : stream.hello().at("topics")) offered.insert(topic.at("name"));
+  EXPECT_EQ(documented, offered);
 }
 
 }  // namespace
