@@ -16,6 +16,14 @@ Response bytes_response(const Request& request, http::status status, std::string
   return response;
 }
 
+Response no_content_response(const Request& request) {
+  Response response{http::status::no_content, request.version()};
+  response.set(http::field::server, "mobotd");
+  response.keep_alive(request.keep_alive());
+  response.prepare_payload();
+  return response;
+}
+
 Response json_response(const Request& request, http::status status, const nlohmann::json& body) {
   return bytes_response(request, status, "application/json",
                         body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));

@@ -17,6 +17,8 @@ Response error_response(const Request& request, int status, const std::string& c
                         const std::string& message);
 Response bytes_response(const Request& request, http::status status, std::string_view content_type,
                         std::string body);
+// 204: done, nothing to say.
+Response no_content_response(const Request& request);
 
 // The target split into its path and the value of one query parameter (percent-decoded).
 std::string_view target_path(std::string_view target);

@@ -165,11 +165,7 @@ Response RestApi::activate_map(const Request& request, std::int64_t id) {
 
 Response RestApi::delete_map(const Request& request, std::int64_t id) {
   port_.delete_map(id);
-  Response response{http::status::no_content, request.version()};
-  response.set(http::field::server, "mobotd");
-  response.keep_alive(request.keep_alive());
-  response.prepare_payload();
-  return response;
+  return no_content_response(request);
 }
 
 }  // namespace mobot::api

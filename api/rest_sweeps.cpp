@@ -66,9 +66,19 @@ Response RestApi::route_sweeps(const Request& request, const Segments& path) {
     throw ApiError(405, "method_not_allowed", "use GET or POST on /api/v1/sweeps");
   }
   if (path.size() != 4 && path.size() != 5) throw ApiError(404, "not_found", "no such endpoint");
-  if (method != http::verb::get) throw ApiError(405, "method_not_allowed", "use GET");
-  require_role(request, Role::kViewer);
   const auto id = parse_id(path[3]);
+  if (path.size() == 4 && method == http::verb::delete_) {
+    // Like a map, stored data only an admin removes.
+    require_role(request, Role::kAdmin);
+    if (!id) unknown_sweep();
+    port_.delete_sweep(*id);
+    return no_content_response(request);
+  }
+  if (method != http::verb::get) {
+    throw ApiError(405, "method_not_allowed",
+                   path.size() == 4 ? "use GET or DELETE on a sweep" : "use GET");
+  }
+  require_role(request, Role::kViewer);
   if (!id) unknown_sweep();
   if (path.size() == 4) {
     const auto sweep = port_.find_sweep(*id);

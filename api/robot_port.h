@@ -169,6 +169,9 @@ class RobotPort {
   // ApiError 404 unknown_sweep, 409 sweep_not_done (running or failed).
   virtual perception::PointCloud sweep_cloud(std::int64_t id) const = 0;
   virtual mapping::OccupancyGrid sweep_obstacle_map(std::int64_t id) const = 0;
+  // Deletes a finished sweep's record, cloud and map (the 3D layer keeps what it merged).
+  // ApiError 404 unknown_sweep, 409 sweep_running.
+  virtual void delete_sweep(std::int64_t id) = 0;
 
   virtual bool is_simulated() const = 0;
   // The simulator endpoints; only called when is_simulated().

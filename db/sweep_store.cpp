@@ -90,6 +90,17 @@ int SweepStore::fail_interrupted(const std::string& reason) {
   });
 }
 
+SweepStore::RemoveResult SweepStore::remove(std::int64_t id) {
+  return database_.write([id](const Connection& tx) {
+    Statement row = tx.prepare("SELECT status FROM sweeps WHERE id = ?");
+    row.bind(1, id);
+    if (!row.step()) return RemoveResult::kNotFound;
+    if (row.column_text(0) == "running") return RemoveResult::kRunning;
+    tx.prepare("DELETE FROM sweeps WHERE id = ?").bind(1, id).run();
+    return RemoveResult::kRemoved;
+  });
+}
+
 std::vector<SweepRecord> SweepStore::list() const {
   return database_.read([](const Connection& connection) {
     Statement rows =

@@ -37,6 +37,9 @@ class SweepStore {
   bool fail(std::int64_t id, double ended_t, const std::string& reason);
   // Sweeps a previous process left running can never finish: marks them failed. Returns how many.
   int fail_interrupted(const std::string& reason);
+  enum class RemoveResult { kRemoved, kNotFound, kRunning };
+  // Deletes a sweep that is done or failed, with its cloud and map.
+  RemoveResult remove(std::int64_t id);
 
   std::vector<SweepRecord> list() const;
   std::optional<SweepRecord> get(std::int64_t id) const;

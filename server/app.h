@@ -80,6 +80,7 @@ class App final : public api::RobotPort {
   mapping::OccupancyGrid sweep_obstacle_map(std::int64_t id) const override {
     return sweeps_->obstacle_map(id);
   }
+  void delete_sweep(std::int64_t id) override { sweeps_->remove(id); }
 
   bool is_simulated() const override { return config_.backend == "sim"; }
   std::vector<api::WorldInfo> list_worlds() const override;

@@ -178,6 +178,18 @@ mapping::OccupancyGrid Sweeps::obstacle_map(std::int64_t id) const {
   return store_.obstacle_map(id).value_or(mapping::OccupancyGrid{});
 }
 
+void Sweeps::remove(std::int64_t id) {
+  switch (store_.remove(id)) {
+    case db::SweepStore::RemoveResult::kRemoved:
+      return;
+    case db::SweepStore::RemoveResult::kNotFound:
+      throw api::ApiError(404, "unknown_sweep", "no 3D sweep " + std::to_string(id));
+    case db::SweepStore::RemoveResult::kRunning:
+      throw api::ApiError(409, "sweep_running",
+                          "3D sweep " + std::to_string(id) + " is running: wait until it is done");
+  }
+}
+
 void Sweeps::stop() {
   pool_.join();
   std::lock_guard lock(mutex_);

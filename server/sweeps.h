@@ -34,6 +34,8 @@ class Sweeps {
   std::optional<api::SweepInfo> find(std::int64_t id) const;
   perception::PointCloud cloud(std::int64_t id) const;
   mapping::OccupancyGrid obstacle_map(std::int64_t id) const;
+  // 404 unknown_sweep, 409 sweep_running.
+  void remove(std::int64_t id);
   // Marks a sweep still running as failed (the server is stopping) and waits for the processing
   // of one that has finished scanning.
   void stop();

@@ -290,6 +290,34 @@ TEST_F(SweepsTest, AResetEndsARunningSweepAsFailedAndEventsAreRecorded) {
   EXPECT_EQ(statuses, (std::vector<std::string>{"running", "failed", "running", "done"}));
 }
 
+TEST_F(SweepsTest, AnAdminDeletesAFinishedSweepButNotARunningOne) {
+  const std::int64_t id = start_sweep(operator_client(), json{{"period_s", 42}, {"step_deg", 1}});
+  const std::string target = "/api/v1/sweeps/" + std::to_string(id);
+  expect_error(admin().del(target), 409, "sweep_running");
+  expect_error(operator_client().del(target), 403, "forbidden");
+  expect_error(admin().del("/api/v1/sweeps/999999"), 404, "unknown_sweep");
+  expect_error(admin().del("/api/v1/sweeps/abc"), 404, "unknown_sweep");
+  EXPECT_EQ(viewer().get(target).json().at("status"), "running") << "the refusals changed nothing";
+  ASSERT_EQ(operator_client().post("/api/v1/sim/reset", json::object()).status, 200);
+  ASSERT_EQ(wait_sweep_end(viewer(), id).at("status"), "failed");
+  const std::int64_t done = start_sweep(operator_client());
+  ASSERT_EQ(wait_sweep_end(viewer(), done).at("status"), "done");
+
+  for (const std::int64_t gone : {id, done}) {
+    const std::string path = "/api/v1/sweeps/" + std::to_string(gone);
+    const HttpReply deleted = admin().del(path);
+    EXPECT_EQ(deleted.status, 204) << deleted.body;
+    EXPECT_TRUE(deleted.body.empty());
+    expect_error(viewer().get(path), 404, "unknown_sweep");
+    expect_error(viewer().get(path + "/cloud"), 404, "unknown_sweep");
+    expect_error(admin().del(path), 404, "unknown_sweep");
+  }
+  for (const auto& sweep : viewer().get("/api/v1/sweeps").json()) {
+    EXPECT_NE(sweep.at("id"), id);
+    EXPECT_NE(sweep.at("id"), done);
+  }
+}
+
 // The route of a goal to D through the gate wall: the x where its path crosses the wall.
 std::optional<double> gate_crossing_x(const json& goal) {
   for (const auto& point : goal.at("path")) {

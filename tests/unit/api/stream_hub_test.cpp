@@ -68,6 +68,7 @@ class FakePort : public RobotPort {
   std::optional<SweepInfo> find_sweep(std::int64_t) const override { return std::nullopt; }
   perception::PointCloud sweep_cloud(std::int64_t) const override { throw unsupported(); }
   mapping::OccupancyGrid sweep_obstacle_map(std::int64_t) const override { throw unsupported(); }
+  void delete_sweep(std::int64_t) override { throw unsupported(); }
   bool is_simulated() const override { return true; }
   std::vector<WorldInfo> list_worlds() const override { return {}; }
   SimTruth sim_truth() const override { return {}; }

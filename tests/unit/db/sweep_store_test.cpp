@@ -45,6 +45,20 @@ TEST_F(SweepStoreTest, ARunningSweepIsStoredAtOnceAndFinishesWithItsCloudAndMap)
   EXPECT_DOUBLE_EQ(stored_map->resolution_m(), 0.2);
 }
 
+TEST_F(SweepStoreTest, OnlyAFinishedSweepCanBeRemoved) {
+  const auto running = sweeps_.insert_running(10.0, 1.0, 81, 1.0, 1000.0, std::nullopt);
+  const auto done = sweeps_.insert_running(10.0, 1.0, 81, 2.0, 1001.0, std::nullopt);
+  ASSERT_TRUE(sweeps_.finish(done, 12.0, {{1.0F, 2.0F, 0.5F, 0.25F}},
+                             mapping::OccupancyGrid(2, 2, 0.2, {}, mapping::OccupancyGrid::kFree)));
+  EXPECT_EQ(sweeps_.remove(running), SweepStore::RemoveResult::kRunning);
+  EXPECT_EQ(sweeps_.remove(done), SweepStore::RemoveResult::kRemoved);
+  EXPECT_EQ(sweeps_.remove(done), SweepStore::RemoveResult::kNotFound);
+  EXPECT_FALSE(sweeps_.get(done));
+  EXPECT_FALSE(sweeps_.cloud(done));
+  ASSERT_EQ(sweeps_.list().size(), 1U);
+  EXPECT_EQ(sweeps_.list()[0].id, running);
+}
+
 TEST_F(SweepStoreTest, FailedAndInterruptedSweepsKeepTheirReason) {
   const auto a = sweeps_.insert_running(42.0, 0.25, 100, 1.0, 1000.0, std::nullopt);
   const auto b = sweeps_.insert_running(10.0, 0.5, 40, 2.0, 1001.0, std::nullopt);
