@@ -93,11 +93,12 @@ PlanningWorker::Outcome PlanningWorker::plan_now(
     grid = std::make_shared<const planning::PlanningGrid>(
         builder_.build(*map, {layers, extra_obstacles_in_map}));
   }
-  const planning::PlanResult result = planner_named(planner).plan(*grid, start, goal);
+  planning::GlobalPlanner& global_planner = planner_named(planner);
+  const planning::PlanResult result = global_planner.plan(*grid, start, goal);
   if (!result.ok()) return {result.error, {}};
-  // The Voronoi route is meant to keep to the passage middles; smoothing would cut its corners
-  // back to the shortest path. Its waypoints are already reduced and clear.
-  if (planner == "voronoi") return {std::nullopt, planning::Path(result.points_in_map)};
+  if (!global_planner.route_may_be_smoothed()) {
+    return {std::nullopt, planning::Path(result.points_in_map)};
+  }
   return {std::nullopt, planning::Path(smoother_.smooth(*grid, result.points_in_map))};
 }
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "core/planning/grid_steps.h"
-#include "core/planning/start_escape.h"
+#include "core/planning/grid_search.h"
 
 namespace mobot::planning {
 namespace {
@@ -88,14 +88,6 @@ void sort_largest_first(std::vector<Node>& nodes) {
     for (; k > 0 && larger(node, nodes[k - 1]); --k) nodes[k] = nodes[k - 1];
     nodes[k] = node;
   }
-}
-
-double polyline_length(const std::vector<geometry::Point2D>& points) {
-  double length = 0.0;
-  for (std::size_t i = 1; i < points.size(); ++i) {
-    length += std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
-  }
-  return length;
 }
 
 }  // namespace
@@ -329,24 +321,10 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
 
 PlanResult AStarPlanner::plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                               const geometry::Pose2D& goal) {
-  PlanResult result;
-  const auto ends = search_ends(grid, start, goal, options_.max_escape_distance_m);
-  if (const auto* error = std::get_if<PlanError>(&ends)) {
-    result.error = *error;
-    return result;
-  }
-  const SearchEnds& cells = std::get<SearchEnds>(ends);
-  result.start_escaped = !cells.escape.empty();
-  result.cells = cells.escape;
-  if (!search(grid, cells.start, cells.goal, result)) {
-    result.error = PlanError::kNoPath;
-    result.cells.clear();
-    return result;
-  }
-  result.cost += cells.escape_cost_m;
-  result.points_in_map = path_points(grid, result.cells, start, goal);
-  result.length_m = polyline_length(result.points_in_map);
-  return result;
+  return plan_on_grid(grid, start, goal, options_.max_escape_distance_m,
+                      [&](mapping::CellIndex from, mapping::CellIndex to, PlanResult& result) {
+                        return search(grid, from, to, result);
+                      });
 }
 
 }  // namespace mobot::planning

@@ -48,6 +48,9 @@ class GlobalPlanner {
  public:
   virtual ~GlobalPlanner() = default;
   virtual std::string_view name() const = 0;
+  // Whether a smoother may shorten the route. A planner whose route is its point (the passage
+  // middles of the Voronoi roadmap) says no.
+  virtual bool route_may_be_smoothed() const { return true; }
   // Headings of start and goal are ignored by grid planners; the tracker turns to the goal's.
   virtual PlanResult plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                           const geometry::Pose2D& goal) = 0;

@@ -13,7 +13,7 @@
 
 #include "core/planning/grid_steps.h"
 #include "core/planning/line_of_sight.h"
-#include "core/planning/start_escape.h"
+#include "core/planning/grid_search.h"
 
 namespace mobot::planning {
 namespace {
@@ -21,14 +21,6 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr std::uint8_t kStepMask = 0x07;
 constexpr std::uint8_t kClosed = 0x08;
-
-double polyline_length(const std::vector<geometry::Point2D>& points) {
-  double length = 0.0;
-  for (std::size_t i = 1; i < points.size(); ++i) {
-    length += std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
-  }
-  return length;
-}
 
 bool same_grid(const PlanningGrid& a, const PlanningGrid& b) {
   return a.width() == b.width() && a.height() == b.height() &&
@@ -206,32 +198,23 @@ bool VoronoiPlanner::search(const PlanningGrid& grid, const VoronoiRoadmap& road
 
 PlanResult VoronoiPlanner::plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                                 const geometry::Pose2D& goal) {
-  PlanResult result;
-  const auto ends = search_ends(grid, start, goal, options_.max_escape_distance_m);
-  if (const auto* error = std::get_if<PlanError>(&ends)) {
-    result.error = *error;
-    return result;
-  }
-  const SearchEnds& cells = std::get<SearchEnds>(ends);
-  result.start_escaped = !cells.escape.empty();
-  result.cells = cells.escape;
-  if (!search(grid, roadmap_for(grid), cells.start, cells.goal, result)) {
-    result.error = PlanError::kNoPath;
-    result.cells.clear();
-    return result;
-  }
-  result.cost += cells.escape_cost_m;
-
+  std::size_t escape_cells = 0;
+  PlanResult result = plan_on_grid(
+      grid, start, goal, options_.max_escape_distance_m,
+      [&](mapping::CellIndex from, mapping::CellIndex to, PlanResult& partial) {
+        escape_cells = partial.cells.size();
+        return search(grid, roadmap_for(grid), from, to, partial);
+      });
+  if (!result.ok()) return result;
   // The escape's points are kept as they are (they cross the inflated zone); the rest is reduced
   // to the roadmap's turns.
-  const std::vector<geometry::Point2D> points = path_points(grid, result.cells, start, goal);
-  const std::size_t escape_cells = cells.escape.size();
+  const std::vector<geometry::Point2D> points = std::move(result.points_in_map);
   result.points_in_map.assign(points.begin(),
                               points.begin() + static_cast<std::ptrdiff_t>(escape_cells));
   const std::vector<geometry::Point2D> waypoints = reduce_to_waypoints(
       grid, std::span(points).subspan(escape_cells), options_.waypoint_tolerance_m);
   result.points_in_map.insert(result.points_in_map.end(), waypoints.begin(), waypoints.end());
-  result.length_m = polyline_length(result.points_in_map);
+  result.length_m = polyline_length_m(result.points_in_map);
   return result;
 }
 

@@ -56,6 +56,9 @@ class VoronoiPlanner : public GlobalPlanner {
   explicit VoronoiPlanner(const VoronoiPlannerOptions& options = {});
 
   std::string_view name() const override { return "voronoi"; }
+  // Smoothing would cut the roadmap's bends back to the shortest path; the waypoints are already
+  // reduced and clear.
+  bool route_may_be_smoothed() const override { return false; }
   PlanResult plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                   const geometry::Pose2D& goal) override;
 

@@ -1,4 +1,4 @@
-#include "core/planning/start_escape.h"
+#include "core/planning/grid_search.h"
 
 #include <algorithm>
 #include <cmath>
@@ -111,6 +111,14 @@ std::vector<geometry::Point2D> path_points(const PlanningGrid& grid,
     points.back() = {goal.x, goal.y};
   }
   return points;
+}
+
+double polyline_length_m(const std::vector<geometry::Point2D>& points) {
+  double length_m = 0.0;
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    length_m += std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
+  }
+  return length_m;
 }
 
 }  // namespace mobot::planning

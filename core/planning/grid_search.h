@@ -5,9 +5,8 @@
 #include <vector>
 
 #include "core/geometry/pose2d.h"
-#include "core/planning/global_planner.h"
-
 #include "core/mapping/occupancy_grid.h"
+#include "core/planning/global_planner.h"
 #include "core/planning/planning_grid.h"
 
 namespace mobot::planning {
@@ -45,5 +44,35 @@ std::vector<geometry::Point2D> path_points(const PlanningGrid& grid,
                                            const std::vector<mapping::CellIndex>& cells,
                                            const geometry::Pose2D& start,
                                            const geometry::Pose2D& goal);
+
+double polyline_length_m(const std::vector<geometry::Point2D>& points);
+
+// What every grid planner does around its own search: search_ends' checks and start escape, then
+// search(from, to, result), which appends its cells to result.cells (the escape's cells are there
+// already) and sets result.cost, returning false when the goal is unreachable (kNoPath). On
+// success the result holds every cell, the total cost with the escape, path_points and length_m.
+template <class Search>
+PlanResult plan_on_grid(const PlanningGrid& grid, const geometry::Pose2D& start,
+                        const geometry::Pose2D& goal, double max_escape_distance_m,
+                        Search&& search) {
+  PlanResult result;
+  const auto ends = search_ends(grid, start, goal, max_escape_distance_m);
+  if (const auto* error = std::get_if<PlanError>(&ends)) {
+    result.error = *error;
+    return result;
+  }
+  const SearchEnds& cells = std::get<SearchEnds>(ends);
+  result.start_escaped = !cells.escape.empty();
+  result.cells = cells.escape;
+  if (!search(cells.start, cells.goal, result)) {
+    result.error = PlanError::kNoPath;
+    result.cells.clear();
+    return result;
+  }
+  result.cost += cells.escape_cost_m;
+  result.points_in_map = path_points(grid, result.cells, start, goal);
+  result.length_m = polyline_length_m(result.points_in_map);
+  return result;
+}
 
 }  // namespace mobot::planning
