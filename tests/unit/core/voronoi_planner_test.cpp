@@ -20,6 +20,7 @@
 #include "core/planning/global_planner_factory.h"
 #include "core/planning/line_of_sight.h"
 #include "core/planning/planning_grid_builder.h"
+#include "tests/unit/core/planning_test_maps.h"
 
 namespace mobot::planning {
 namespace {
@@ -27,28 +28,13 @@ namespace {
 using mapping::CellIndex;
 using mapping::OccupancyGrid;
 
-constexpr double kRes = 0.05;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-OccupancyGrid free_map(int width, int height) {
-  return OccupancyGrid(width, height, kRes, {}, OccupancyGrid::kFree);
-}
-
-void fill(OccupancyGrid& map, int x0, int y0, int x1, int y1, std::uint8_t value) {
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) map.set({x, y}, value);
-  }
-}
-
-void outline(OccupancyGrid& map) {
-  fill(map, 0, 0, map.width() - 1, 0, OccupancyGrid::kOccupied);
-  fill(map, 0, map.height() - 1, map.width() - 1, map.height() - 1, OccupancyGrid::kOccupied);
-  fill(map, 0, 0, 0, map.height() - 1, OccupancyGrid::kOccupied);
-  fill(map, map.width() - 1, 0, map.width() - 1, map.height() - 1, OccupancyGrid::kOccupied);
-}
-
-// R1's defaults: inscribed radius 0.3 m (6 cells), inflated 0.25 m beyond.
-PlanningGrid build(const OccupancyGrid& map) { return PlanningGridBuilder().build(map); }
+using test_maps::build;
+using test_maps::fill;
+using test_maps::free_map;
+using test_maps::kRes;
+using test_maps::outline;
 
 geometry::Pose2D at(const PlanningGrid& grid, CellIndex cell) {
   const geometry::Point2D p = grid.cell_center(cell);

@@ -13,6 +13,7 @@
 
 #include "core/mapping/occupancy_grid.h"
 #include "core/planning/planning_grid_builder.h"
+#include "tests/unit/core/planning_test_maps.h"
 
 namespace mobot::planning {
 namespace {
@@ -20,28 +21,11 @@ namespace {
 using mapping::CellIndex;
 using mapping::OccupancyGrid;
 
-constexpr double kRes = 0.05;
-
-OccupancyGrid free_map(int width, int height) {
-  return OccupancyGrid(width, height, kRes, {}, OccupancyGrid::kFree);
-}
-
-void fill(OccupancyGrid& map, int x0, int y0, int x1, int y1, std::uint8_t value) {
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) map.set({x, y}, value);
-  }
-}
-
-// The map's outline as walls, one cell thick.
-void outline(OccupancyGrid& map) {
-  fill(map, 0, 0, map.width() - 1, 0, OccupancyGrid::kOccupied);
-  fill(map, 0, map.height() - 1, map.width() - 1, map.height() - 1, OccupancyGrid::kOccupied);
-  fill(map, 0, 0, 0, map.height() - 1, OccupancyGrid::kOccupied);
-  fill(map, map.width() - 1, 0, map.width() - 1, map.height() - 1, OccupancyGrid::kOccupied);
-}
-
-// R1's defaults: inscribed radius 0.3 m (6 cells), inflated 0.25 m beyond.
-PlanningGrid build(const OccupancyGrid& map) { return PlanningGridBuilder().build(map); }
+using test_maps::build;
+using test_maps::fill;
+using test_maps::free_map;
+using test_maps::kRes;
+using test_maps::outline;
 
 std::vector<CellIndex> roadmap_cells(const VoronoiRoadmap& roadmap) {
   std::vector<CellIndex> cells;
