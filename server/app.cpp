@@ -132,7 +132,7 @@ void App::publish_active_map() {
   auto grid = maps_.grid(*id);
   if (!grid) return;
   if (robot_) robot_->set_map(*grid);
-  hub_.publish_map(robot_ ? robot_->snapshot().t_s : 0.0,
+  hub_.publish_map(robot_ ? robot_->time_s() : 0.0,
                    std::make_shared<const mapping::OccupancyGrid>(std::move(*grid)), *id);
   hub_.flush();
 }

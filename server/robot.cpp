@@ -381,6 +381,11 @@ std::string Robot::mode() const {
   return "idle";
 }
 
+double Robot::time_s() const {
+  std::lock_guard lock(mutex_);
+  return now_s_;
+}
+
 api::RobotSnapshot Robot::snapshot() const {
   std::lock_guard lock(mutex_);
   return snapshot_locked();

@@ -51,6 +51,8 @@ class Robot {
   void set_map(const mapping::OccupancyGrid& map);
   bool set_estop(bool engaged);
   api::RobotSnapshot snapshot() const;
+  // The robot clock, without building a snapshot.
+  double time_s() const;
   api::SimTruth truth() const;
   // Restarts the simulation in `world` (or the current one) at `pose` (or the world's start).
   void reset(std::optional<sim::World> world, std::optional<geometry::Pose2D> pose,

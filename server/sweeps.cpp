@@ -66,7 +66,7 @@ api::SweepInfo Sweeps::start(const api::SweepRequest& request) {
     throw api::ApiError(409, "sweep_running",
                         "3D sweep " + std::to_string(*running_) + " is running: wait until it is done");
   }
-  const double now_s = robot_.snapshot().t_s;
+  const double now_s = robot_.time_s();
   const std::int64_t id = store_.insert_running(mode->period_s, mode->step_deg, mode->scans, now_s,
                                                 unix_now_s(), recorder_.run_id());
   try {
@@ -195,7 +195,7 @@ void Sweeps::stop() {
   std::lock_guard lock(mutex_);
   if (!running_) return;
   try {
-    store_.fail(*running_, robot_.snapshot().t_s, "server_stopped");
+    store_.fail(*running_, robot_.time_s(), "server_stopped");
   } catch (const std::exception& error) {
     spdlog::error("3D sweep {}: cannot mark it failed: {}", *running_, error.what());
   }
