@@ -57,6 +57,28 @@ std::string lower(std::string text) {
   return text;
 }
 
+// A request, who sends it, and the status the server must answer.
+struct StatusCase {
+  std::string method;
+  std::string target;
+  std::string body;
+  HttpClient client;
+  int status;
+};
+
+// Each request gets its status, and the document lists that status for the operation.
+void expect_statuses_documented(const json& doc, const std::vector<StatusCase>& cases) {
+  for (const auto& test : cases) {
+    const HttpReply reply = test.client.request(test.method, test.target, test.body);
+    EXPECT_EQ(reply.status, test.status) << test.method << " " << test.target << ": " << reply.body;
+    const std::string path = match_path(doc, test.target);
+    ASSERT_FALSE(path.empty()) << test.target;
+    const json& responses = doc.at("paths").at(path).at(lower(test.method)).at("responses");
+    EXPECT_TRUE(responses.contains(std::to_string(reply.status)))
+        << test.method << " " << path << " answers " << reply.status << " but does not document it";
+  }
+}
+
 const std::vector<std::string> kMethods = {"get", "post", "put", "delete", "patch"};
 
 TEST_F(OpenApiTest, ServedDocumentIsOpenApi3) {
@@ -252,15 +274,8 @@ TEST_F(OpenApiTest, ErrorStatusesTheServerGivesAreDocumented) {
   const json doc = document();
   const std::string office =
       std::to_string(viewer().get("/api/v1/maps").json().at(0).at("id").get<int>());
-  struct Case {
-    std::string method;
-    std::string target;
-    std::string body;
-    HttpClient client;
-    int status;
-  };
   ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", true}}).status, 200);
-  const std::vector<Case> cases = {
+  const std::vector<StatusCase> cases = {
       {"POST", "/api/v1/teleop", R"({"v":0.1,"w":0})", operator_client(), 409},
       {"POST", "/api/v1/teleop", R"({"v":0.1,"w":0})", viewer(), 403},
       {"POST", "/api/v1/teleop", R"({"v":NaN,"w":0})", operator_client(), 400},
@@ -280,29 +295,14 @@ TEST_F(OpenApiTest, ErrorStatusesTheServerGivesAreDocumented) {
       {"POST", "/api/v1/tokens", R"({"role":"root"})", admin(), 400},
       {"GET", "/api/v1/tokens", "", operator_client(), 403},
   };
-  for (const auto& test : cases) {
-    const HttpReply reply = test.client.request(test.method, test.target, test.body);
-    EXPECT_EQ(reply.status, test.status) << test.method << " " << test.target << ": " << reply.body;
-    const std::string path = match_path(doc, test.target);
-    ASSERT_FALSE(path.empty()) << test.target;
-    const json& responses = doc.at("paths").at(path).at(lower(test.method)).at("responses");
-    EXPECT_TRUE(responses.contains(std::to_string(reply.status)))
-        << test.method << " " << path << " answers " << reply.status << " but does not document it";
-  }
+  expect_statuses_documented(doc, cases);
   ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", false}}).status, 200);
 }
 
 TEST_F(OpenApiTest, GoalAndLocalizationErrorStatusesAreDocumented) {
   const json doc = document();
   ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", false}}).status, 200);
-  struct Case {
-    std::string method;
-    std::string target;
-    std::string body;
-    HttpClient client;
-    int status;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<StatusCase> cases = {
       {"POST", "/api/v1/goals", R"({"x":5,"y":7.5})", viewer(), 403},
       {"POST", "/api/v1/goals", R"({"x":NaN,"y":7.5})", operator_client(), 400},
       {"POST", "/api/v1/goals", R"({"x":5,"y":7.5,"planner":"rrt"})", operator_client(), 400},
@@ -316,15 +316,7 @@ TEST_F(OpenApiTest, GoalAndLocalizationErrorStatusesAreDocumented) {
        operator_client(), 400},
       {"POST", "/api/v1/localization/pose", R"({"x":2,"y":7.5,"theta":0})", viewer(), 403},
   };
-  for (const auto& test : cases) {
-    const HttpReply reply = test.client.request(test.method, test.target, test.body);
-    EXPECT_EQ(reply.status, test.status) << test.method << " " << test.target << ": " << reply.body;
-    const std::string path = match_path(doc, test.target);
-    ASSERT_FALSE(path.empty()) << test.target;
-    const json& responses = doc.at("paths").at(path).at(lower(test.method)).at("responses");
-    EXPECT_TRUE(responses.contains(std::to_string(reply.status)))
-        << test.method << " " << path << " answers " << reply.status << " but does not document it";
-  }
+  expect_statuses_documented(doc, cases);
   // Under e-stop a goal is a conflict; an accepted one is 201 and can be canceled once.
   ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", true}}).status, 200);
   const HttpReply refused = operator_client().post("/api/v1/goals", json{{"x", 5.0}, {"y", 7.5}});
