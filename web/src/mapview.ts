@@ -727,18 +727,23 @@ export class MapView {
     if (goal.status === 'failed') {
       ctx.strokeStyle = color;
       ctx.lineWidth = 2;
-      const k = r * 0.55;
-      ctx.beginPath();
-      ctx.moveTo(sx - k, sy - k);
-      ctx.lineTo(sx + k, sy + k);
-      ctx.moveTo(sx + k, sy - k);
-      ctx.lineTo(sx - k, sy + k);
-      ctx.stroke();
+      this.strokeCross(sx, sy, r * 0.55);
     }
     ctx.globalAlpha = 1;
   }
 
   /** An arrow from (sx, sy) along the map-frame angle `theta`, `length` pixels long. */
+  /** An X of half-size k screen pixels at (sx, sy), in the current stroke style. */
+  private strokeCross(sx: number, sy: number, k: number): void {
+    const ctx = this.ctx;
+    ctx.beginPath();
+    ctx.moveTo(sx - k, sy - k);
+    ctx.lineTo(sx + k, sy + k);
+    ctx.moveTo(sx + k, sy - k);
+    ctx.lineTo(sx - k, sy + k);
+    ctx.stroke();
+  }
+
   private drawArrow(sx: number, sy: number, theta: number, length: number, color: string, width: number): void {
     const ctx = this.ctx;
     const ux = Math.cos(theta);
@@ -842,15 +847,7 @@ export class MapView {
     const [sx, sy] = this.view.toScreen(mark.x, mark.y);
     ctx.strokeStyle = 'rgba(11, 15, 20, 0.8)';
     ctx.lineWidth = 5;
-    const k = 8;
-    const cross = () => {
-      ctx.beginPath();
-      ctx.moveTo(sx - k, sy - k);
-      ctx.lineTo(sx + k, sy + k);
-      ctx.moveTo(sx + k, sy - k);
-      ctx.lineTo(sx - k, sy + k);
-      ctx.stroke();
-    };
+    const cross = () => this.strokeCross(sx, sy, 8);
     cross();
     ctx.strokeStyle = COLORS.error;
     ctx.lineWidth = 2.5;
