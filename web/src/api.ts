@@ -1,6 +1,7 @@
 // REST client of mobotd (/api/v1). Every call carries the bearer token; errors come back as
 // ApiError with the server's {"error":{"code","message"}}.
 
+import { ApiError, errorText } from './apierror';
 import type { Goal } from './goals';
 import type { JsonObstacleMap } from './ipabd';
 import type { SweepInfo, SweepRequest } from './sweeps';
@@ -89,27 +90,6 @@ export interface MapImport {
   negate?: boolean;
   occupied_thresh?: number;
   free_thresh?: number;
-}
-
-export class ApiError extends Error {
-  constructor(
-    readonly status: number,
-    readonly code: string,
-    message: string,
-  ) {
-    super(message);
-  }
-
-  /** "message (code)" for the UI. */
-  describe(): string {
-    return this.code && this.code !== 'network_error' ? `${this.message} (${this.code})` : this.message;
-  }
-}
-
-export function errorText(error: unknown): string {
-  if (error instanceof ApiError) return error.describe();
-  if (error instanceof Error) return error.message;
-  return String(error);
 }
 
 /** Turns a non-2xx response into an ApiError, reading the {"error":{...}} body when there is one. */

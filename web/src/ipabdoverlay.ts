@@ -3,10 +3,10 @@
 // (beams, table tops) shows next to what the plain 2D laser sees. Fetched when switched on and
 // again whenever a sweep finishes.
 
-import { ApiError, errorText } from './api';
+import { ApiError, errorText } from './apierror';
 import type { ApiClient } from './api';
 import { obstacleGridFromJson } from './ipabd';
-import type { MapView } from './mapview';
+import type { IpabdObstaclesLayer } from './map/layers/ipabd_obstacles';
 import { newestSweep } from './sweeps';
 import { toast } from './ui';
 
@@ -24,7 +24,7 @@ export class IpabdOverlay {
 
   constructor(
     private readonly api: ApiClient,
-    private readonly mapView: MapView,
+    private readonly layer: IpabdObstaclesLayer,
     private readonly status: HTMLElement,
   ) {}
 
@@ -34,7 +34,7 @@ export class IpabdOverlay {
     else {
       this.request++;
       this.sweepId = null;
-      this.mapView.setObstacleGrid(null);
+      this.layer.set(null);
       this.showStatus('');
     }
   }
@@ -55,7 +55,7 @@ export class IpabdOverlay {
         if (request !== this.request) return;
         if (!newest) {
           this.showStatus('no finished 3D sweep yet');
-          this.mapView.setObstacleGrid(null);
+          this.layer.set(null);
           return;
         }
         sweepId = newest.id;
@@ -66,8 +66,8 @@ export class IpabdOverlay {
       const grid = obstacleGridFromJson(json);
       this.sweepId = sweepId;
       this.lastError = null;
-      this.mapView.setObstacleGrid(grid);
-      this.showStatus(`sweep #${sweepId}: ${this.mapView.obstacleCells} cells`);
+      this.layer.set(grid);
+      this.showStatus(`sweep #${sweepId}: ${this.layer.cells} cells`);
     } catch (error) {
       if (request !== this.request) return;
       this.lastError = errorText(error);

@@ -1,11 +1,12 @@
 // Dashboard entry: token, REST client, stream, pages, e-stop and the test hooks (window.__mobot).
 
 import './style.css';
-import { ApiClient, ApiError, errorText } from './api';
+import { ApiClient } from './api';
 import type { RobotStatus } from './api';
+import { ApiError, errorText } from './apierror';
 import { basePath, forgetToken, initialToken, saveToken, streamUrl } from './auth';
 import type { Pose2D } from './frames';
-import type { SonarReading } from './mapview';
+import type { SonarReading } from './map/layers/sonar';
 import { LivePage } from './pages/live';
 import type { PoseData } from './pages/live';
 import { covarianceEllipse, headingSigma } from './goals';
@@ -101,7 +102,7 @@ const stream = new StreamClient({
       live.setTruthAvailable(truth);
       nav.setSimAvailable(truth);
       document.body.classList.toggle('sim', truth);
-      live.mapView.clearTrail(); // the server may have restarted with the robot elsewhere
+      live.mapView.layers.trail.clear(); // the server may have restarted with the robot elsewhere
     },
     json: (topic, data, meta) => {
       switch (topic) {
@@ -165,7 +166,7 @@ nav.renderObstacles();
 const maps = new MapsPage(byId('page-maps'), api);
 const runs = new RunsPage(byId('page-runs'), api);
 const cloud3d = new CloudPage(byId('page-3d'), api);
-const ipabd = new IpabdOverlay(api, live.mapView, byId('layer-ipabd-status'));
+const ipabd = new IpabdOverlay(api, live.mapView.layers.ipabd, byId('layer-ipabd-status'));
 byId<HTMLInputElement>('layer-ipabd').addEventListener('change', (e) => {
   const on = (e.target as HTMLInputElement).checked;
   document.body.classList.toggle('ipabd', on);
@@ -174,7 +175,7 @@ byId<HTMLInputElement>('layer-ipabd').addEventListener('change', (e) => {
 
 window.__mobot = {
   get scansDrawn() {
-    return live.mapView.scansDrawn;
+    return live.mapView.layers.scan.scansDrawn;
   },
   get framesDrawn() {
     return live.mapView.framesDrawn;
@@ -215,7 +216,7 @@ window.__mobot = {
     return g ? { id: g.id, status: g.status, reason: g.reason ?? null, replans: g.replans ?? 0 } : null;
   },
   get pathPoints() {
-    return live.mapView.pathPoints;
+    return live.mapView.layers.path.points;
   },
   get goalCount() {
     return nav.store.size;
@@ -257,7 +258,7 @@ window.__mobot = {
     };
   },
   get ipabdCells() {
-    return live.mapView.obstacleCells;
+    return live.mapView.layers.ipabd.cells;
   },
 };
 

@@ -3,12 +3,14 @@
 // the path and goal marker on the map, and the simulator tools (drop obstacles, set the initial
 // pose). Goals come from GET /api/v1/goals on connect and then from the `goal` and `path` topics.
 
-import { ApiError, errorText } from './api';
+import { ApiError, errorText } from './apierror';
 import type { ApiClient } from './api';
 import { CONTROLLERS, distanceToTarget, goalElapsed, GoalStore, isFinished, parseGoal, parsePoints, pathLength, PLANNERS } from './goals';
 import type { Goal } from './goals';
-import type { MapTool, MapView, ObstacleMarker } from './mapview';
-import { STATUS_COLORS } from './mapview';
+import { STATUS_COLORS } from './map/colors';
+import type { MapTool } from './map/input';
+import type { ObstacleMarker } from './map/layers/obstacles';
+import type { MapView } from './map/mapview';
 import { byId, deg, duration, fmt, h, toast } from './ui';
 
 export type NavMode = 'goal' | 'obstacle' | 'pose';
@@ -210,7 +212,7 @@ export class NavigationPanel {
       // The panel and the marker show the new goal: no toast needed.
       if (reply) this.store.upsert(reply);
     } catch (error) {
-      this.mapView.flashError(x, y);
+      this.mapView.layers.errorMark.flash(x, y);
       this.showError(error, 'Goal refused');
     } finally {
       this.pending = false;
@@ -239,7 +241,7 @@ export class NavigationPanel {
       this.renderObstacles();
       this.showError(null);
     } catch (error) {
-      this.mapView.flashError(x, y);
+      this.mapView.layers.errorMark.flash(x, y);
       this.showError(error, 'Obstacle refused');
     }
   }
@@ -263,11 +265,11 @@ export class NavigationPanel {
     const heading = theta ?? this.pose()?.theta ?? 0;
     try {
       await this.api.setLocalizationPose({ x: round(x, 3), y: round(y, 3), theta: round(heading, 4) });
-      this.mapView.clearTrail();
+      this.mapView.layers.trail.clear();
       this.showError(null);
       toast(`Localization re-initialised at x ${fmt(x)} y ${fmt(y)} θ ${deg(heading)}`, 'ok');
     } catch (error) {
-      this.mapView.flashError(x, y);
+      this.mapView.layers.errorMark.flash(x, y);
       this.showError(error, 'Set pose refused');
     }
   }
@@ -310,8 +312,8 @@ export class NavigationPanel {
   private render(): void {
     this.renderedVersion = this.store.version;
     const goal = this.store.current;
-    this.mapView.setPath(this.store.path, !goal || isFinished(goal));
-    this.mapView.setGoal(goal ? { x: goal.target.x, y: goal.target.y, theta: goal.target.theta, status: goal.status } : null);
+    this.mapView.layers.path.set(this.store.path, !goal || isFinished(goal));
+    this.mapView.layers.goal.set(goal ? { x: goal.target.x, y: goal.target.y, theta: goal.target.theta, status: goal.status } : null);
 
     const status = byId('goal-status');
     status.textContent = goal ? goal.status : this.pending ? 'sending…' : 'no goal';
@@ -366,7 +368,7 @@ export class NavigationPanel {
   }
 
   renderObstacles(): void {
-    this.mapView.setObstacles(this.obstacles);
+    this.mapView.layers.obstacles.set(this.obstacles);
     const list = byId('sim-obstacles');
     if (this.obstacles.length === 0) {
       list.replaceChildren(h('li', { class: 'empty small', text: 'No obstacles dropped.' }));

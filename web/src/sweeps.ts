@@ -3,7 +3,7 @@
 // chunks, GET /api/v1/sweeps/{id} polls (the fallback when frames are dropped) and `sweep` events.
 // Pure (no DOM, no fetch), so it is unit-tested.
 
-import { ApiError, errorText } from './api';
+import { ApiError, errorText } from './apierror';
 import { CloudBuffer, sweepCapacityHint } from './cloud';
 import type { CloudChunk } from './frames';
 

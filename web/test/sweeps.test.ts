@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { ApiError } from '../src/api';
+import { ApiError } from '../src/apierror';
 import type { CloudChunk } from '../src/frames';
 import { newestSweep, sweepErrorText, sweepProgress, SweepTracker } from '../src/sweeps';
 import type { SweepInfo } from '../src/sweeps';

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { boundsOf, MAX_SCALE, ViewTransform, wheelZoomFactor } from '../src/view';
+import { boundsOf, MAX_SCALE, ViewTransform, wheelZoomFactor } from '../src/map/view_transform';
 
 describe('ViewTransform', () => {
   it('maps y up in the world to y down on screen and back', () => {

@@ -3,7 +3,7 @@
 // and the 3D view. The view (three.js) is imported on first show, so the Live page does not load
 // it; chunks are collected in the tracker whether or not the view exists.
 
-import { ApiError, errorText } from '../api';
+import { ApiError, errorText } from '../apierror';
 import type { ApiClient } from '../api';
 import { heightLegendGradient } from '../cloud';
 import type { CloudView } from '../cloudview';

@@ -3,8 +3,9 @@
 
 import type { RobotStatus } from '../api';
 import type { LaserScan, MapGrid, Pose2D } from '../frames';
-import { MapView } from '../mapview';
-import type { SonarReading } from '../mapview';
+import type { SonarReading } from '../map/layers/sonar';
+import { LAYER_SWITCHES } from '../map/layer';
+import { MapView } from '../map/mapview';
 import type { StreamClient } from '../stream';
 import { mountJoystick, TeleopController } from '../teleop';
 import type { Command, TeleopSource } from '../teleop';
@@ -55,13 +56,10 @@ export class LivePage {
     byId('view-robot').addEventListener('click', () => this.mapView.centerOnRobot());
     byId('view-zoom-in').addEventListener('click', () => this.mapView.zoom(1.4));
     byId('view-zoom-out').addEventListener('click', () => this.mapView.zoom(1 / 1.4));
-    byId('trail-clear').addEventListener('click', () => this.mapView.clearTrail());
-    for (const layer of ['scan', 'sonar', 'trail', 'truth', 'path', 'cov'] as const) {
+    byId('trail-clear').addEventListener('click', () => this.mapView.layers.trail.clear());
+    for (const layer of LAYER_SWITCHES) {
       const box = byId<HTMLInputElement>(`layer-${layer}`);
-      box.addEventListener('change', () => {
-        this.mapView.layers[layer] = box.checked;
-        this.mapView.invalidate();
-      });
+      box.addEventListener('change', () => this.mapView.setLayerShown(layer, box.checked));
     }
 
     this.teleop = new TeleopController({
@@ -94,7 +92,7 @@ export class LivePage {
   }
 
   onScan(scan: LaserScan): void {
-    this.mapView.setScan(scan);
+    this.mapView.layers.scan.set(scan);
   }
 
   onMap(map: MapGrid): void {
@@ -103,12 +101,12 @@ export class LivePage {
   }
 
   onSonar(data: { readings?: SonarReading[] }): void {
-    if (Array.isArray(data.readings)) this.mapView.setSonar(data.readings);
+    if (Array.isArray(data.readings)) this.mapView.layers.sonar.set(data.readings);
   }
 
   onTruth(data: { pose: Pose2D; collisions: number }): void {
     this.truth = data;
-    this.mapView.setTruth(data.pose);
+    this.mapView.layers.truth.set(data.pose);
   }
 
   onStatus(status: RobotStatus): void {
@@ -137,7 +135,7 @@ export class LivePage {
 
   setTruthAvailable(available: boolean): void {
     byId('layer-truth-label').hidden = !available;
-    if (!available) this.mapView.setTruth(null);
+    if (!available) this.mapView.layers.truth.set(null);
   }
 
   // ---- panels ----

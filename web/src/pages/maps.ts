@@ -1,7 +1,7 @@
 // The Maps page: list, import (PGM/PNG + ROS map_server parameters), activate, delete, downloads
 // and thumbnails (fetched with the bearer header, shown through object URLs).
 
-import { errorText } from '../api';
+import { errorText } from '../apierror';
 import type { ApiClient, MapInfo } from '../api';
 import { dateTime, fmt, h, saveBlob, toast, toBase64 } from '../ui';
 

@@ -1,10 +1,10 @@
 // The Runs page: recorded runs, the selected run's trajectory over the active map, its events and
 // a CSV download of the trajectory.
 
-import { errorText } from '../api';
+import { errorText } from '../apierror';
 import type { ApiClient, RunEvent, RunInfo, TrajectoryPoint } from '../api';
 import type { MapGrid } from '../frames';
-import { MapView } from '../mapview';
+import { MapView } from '../map/mapview';
 import { dateTime, detailText, duration, fmt, h, saveBlob, toast } from '../ui';
 
 export class RunsPage {
@@ -129,7 +129,9 @@ export class RunsPage {
     }
     if (this.selected !== id) return;
     this.trajectoryPoints = trajectory.length;
-    this.mapView.setOverlay(trajectory, changed && trajectory.length > 1 && !this.mapView.getMap());
+    this.mapView.layers.trajectory.set(trajectory);
+    // A run on a map is shown on the whole map; without one the view follows the trajectory.
+    if (changed && !this.mapView.getMap()) this.mapView.fitPoints(trajectory);
     const first = trajectory[0];
     const last = trajectory[trajectory.length - 1];
     this.summary.replaceChildren(

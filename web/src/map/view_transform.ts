@@ -81,6 +81,11 @@ export function clamp(value: number, lo: number, hi: number): number {
   return Math.min(hi, Math.max(lo, value));
 }
 
+/** `b` with `margin` metres added on every side. */
+export function grow(b: Bounds, margin: number): Bounds {
+  return { minX: b.minX - margin, minY: b.minY - margin, maxX: b.maxX + margin, maxY: b.maxY + margin };
+}
+
 export function boundsOf(points: Iterable<[number, number]>): Bounds | null {
   let b: Bounds | null = null;
   for (const [x, y] of points) {

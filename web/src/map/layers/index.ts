@@ -1,0 +1,49 @@
+// The registry of map layers. The order of the entries is the drawing order, bottom first; each
+// key is its layer's id and the typed handle through which the layer's data is set
+// (mapView.layers.scan.set(scan)). A new layer is a file in this folder and one line here.
+
+import type { MapLayer, Redraw } from '../layer';
+import { CovarianceEllipseLayer } from './covariance_ellipse';
+import { CursorReadoutLayer } from './cursor_readout';
+import { ErrorMarkLayer } from './error_mark';
+import { GoalLayer } from './goal';
+import { GridLayer } from './grid';
+import { HeadingWedgeLayer } from './heading_wedge';
+import { IpabdObstaclesLayer } from './ipabd_obstacles';
+import { MapImageLayer } from './map_image';
+import { ObstaclesLayer } from './obstacles';
+import { PathLayer } from './path';
+import { RobotLayer } from './robot';
+import { ScaleBarLayer } from './scale_bar';
+import { ScanLayer } from './scan';
+import { SonarLayer } from './sonar';
+import { ToolPreviewLayer } from './tool_preview';
+import { TrailLayer } from './trail';
+import { TrajectoryLayer } from './trajectory';
+import { TruthLayer } from './truth';
+
+/** A fresh set of layers for one map view; `redraw` asks that view for a frame. */
+export function createMapLayers(redraw: Redraw) {
+  return {
+    grid: new GridLayer(),
+    map: new MapImageLayer(),
+    ipabd: new IpabdObstaclesLayer(redraw),
+    sonar: new SonarLayer(redraw),
+    scan: new ScanLayer(redraw),
+    trajectory: new TrajectoryLayer(redraw),
+    obstacles: new ObstaclesLayer(redraw),
+    path: new PathLayer(redraw),
+    goal: new GoalLayer(redraw),
+    trail: new TrailLayer(redraw),
+    headingWedge: new HeadingWedgeLayer(),
+    truth: new TruthLayer(redraw),
+    robot: new RobotLayer(),
+    covariance: new CovarianceEllipseLayer(),
+    errorMark: new ErrorMarkLayer(redraw),
+    toolPreview: new ToolPreviewLayer(),
+    scaleBar: new ScaleBarLayer(),
+    cursorReadout: new CursorReadoutLayer(),
+  } satisfies Record<string, MapLayer>;
+}
+
+export type MapLayers = ReturnType<typeof createMapLayers>;
