@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "api/robot_port.h"
+#include "api/ports/control_port.h"
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/msgs/laser_scan.h"

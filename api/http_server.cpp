@@ -9,8 +9,9 @@
 
 namespace mobot::api {
 
-HttpServer::HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, RobotPort& port)
-    : io_(io), rest_(rest), hub_(hub), port_(port), acceptor_(boost::asio::make_strand(io)) {
+HttpServer::HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub,
+                       const Ports& ports)
+    : io_(io), rest_(rest), hub_(hub), ports_(ports), acceptor_(boost::asio::make_strand(io)) {
   // The stream sessions are written from this server's io threads; a batch is shared by as many
   // of them as there are cores to run them.
   hub_.set_executor(io_.get_executor(), std::max(1U, std::thread::hardware_concurrency()));
@@ -42,7 +43,7 @@ void HttpServer::accept_next() {
         if (error) {
           spdlog::warn("accept failed: {}", error.message());
         } else {
-          std::make_shared<HttpSession>(std::move(socket), rest_, hub_, port_)->start();
+          std::make_shared<HttpSession>(std::move(socket), rest_, hub_, ports_)->start();
         }
         if (acceptor_.is_open()) accept_next();
       });

@@ -7,8 +7,8 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 
+#include "api/ports/ports.h"
 #include "api/rest_api.h"
-#include "api/robot_port.h"
 #include "api/stream_hub.h"
 
 namespace mobot::api {
@@ -21,7 +21,7 @@ struct HttpOptions {
 // Accepts TCP connections and gives each its own HttpSession (Beast's advanced_server shape).
 class HttpServer {
  public:
-  HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, RobotPort& port);
+  HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, const Ports& ports);
 
   // Binds and starts accepting; returns the bound endpoint (port 0 picks a free one).
   boost::asio::ip::tcp::endpoint listen(const HttpOptions& options);
@@ -33,7 +33,7 @@ class HttpServer {
   boost::asio::io_context& io_;
   RestApi& rest_;
   StreamHub& hub_;
-  RobotPort& port_;
+  Ports ports_;
   boost::asio::ip::tcp::acceptor acceptor_;
 };
 

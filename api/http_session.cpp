@@ -16,8 +16,8 @@ constexpr std::size_t kHeaderLimit = 16 * 1024;
 }  // namespace
 
 HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
-                         RobotPort& port)
-    : stream_(std::move(socket)), rest_(rest), hub_(hub), port_(port) {}
+                         const Ports& ports)
+    : stream_(std::move(socket)), rest_(rest), hub_(hub), ports_(ports) {}
 
 void HttpSession::start() {
   boost::asio::dispatch(stream_.get_executor(),
@@ -88,9 +88,21 @@ void HttpSession::on_body(boost::beast::error_code error) {
     upgrade_to_stream(request);
     return;
   }
-  Response response = rest_.handle(request);
-  const bool close_after = !response.keep_alive();
-  send(std::move(response), close_after);
+  answer(request);
+}
+
+void HttpSession::answer(const Request& request) {
+  // The robot may take its time (a plan, a commit): that is not the client being idle, and nothing
+  // is read from it meanwhile. The timer starts again with the write.
+  stream_.expires_never();
+  rest_.handle(request, [self = shared_from_this()](Response response) {
+    // Any thread; the session lives until the response is written from its strand.
+    boost::asio::dispatch(self->stream_.get_executor(),
+                          [self, response = std::move(response)]() mutable {
+                            const bool close_after = !response.keep_alive();
+                            self->send(std::move(response), close_after);
+                          });
+  });
 }
 
 void HttpSession::send(Response response, bool close_after) {
@@ -141,9 +153,9 @@ void HttpSession::upgrade_to_stream(const Request& request) {
         }
         const auto pending = self->buffer_.data();
         std::string already_received(static_cast<const char*>(pending.data()), pending.size());
-        auto session = std::make_shared<StreamSession>(self->stream_.release_socket(), self->hub_,
-                                                       self->port_, role,
-                                                       std::move(already_received));
+        auto session =
+            std::make_shared<StreamSession>(self->stream_.release_socket(), self->hub_,
+                                            self->ports_, role, std::move(already_received));
         session->start();
       });
 }

@@ -7,25 +7,28 @@
 #include <boost/beast/http.hpp>
 
 #include "api/http_types.h"
+#include "api/ports/ports.h"
 #include "api/rest_api.h"
-#include "api/robot_port.h"
 #include "api/stream_hub.h"
 
 namespace mobot::api {
 
 // One HTTP/1.1 connection with keep-alive. Reads the header first so the body limit can depend on
 // the endpoint (8 MiB for map import, 64 KiB otherwise), answers REST requests, and hands the
-// socket to a StreamSession on a WebSocket upgrade of /api/v1/stream.
+// socket to a StreamSession on a WebSocket upgrade of /api/v1/stream. A response may come from
+// another thread (a port's Completion); it is written on the session's strand, and the next
+// request is read only once it is out.
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
-              RobotPort& port);
+              const Ports& ports);
   void start();
 
  private:
   void read_header();
   void on_header(boost::beast::error_code error);
   void on_body(boost::beast::error_code error);
+  void answer(const Request& request);
   void send(Response response, bool close_after);
   void upgrade_to_stream(const Request& request);
   void close();
@@ -35,7 +38,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::optional<http::request_parser<http::string_body>> parser_;
   RestApi& rest_;
   StreamHub& hub_;
-  RobotPort& port_;
+  Ports ports_;
 };
 
 }  // namespace mobot::api

@@ -35,6 +35,24 @@ Response error_response(const Request& request, int status, const std::string& c
                        {{"error", {{"code", code}, {"message", message}}}});
 }
 
+int http_status(ErrorKind kind) {
+  switch (kind) {
+    case ErrorKind::kInvalid:
+      return 400;
+    case ErrorKind::kNotFound:
+      return 404;
+    case ErrorKind::kConflict:
+      return 409;
+    case ErrorKind::kImpossible:
+      return 422;
+  }
+  return 500;
+}
+
+Response domain_error_response(const Request& request, const DomainError& error) {
+  return error_response(request, http_status(error.kind), error.code, error.message);
+}
+
 std::string_view target_path(std::string_view target) {
   const auto query = target.find('?');
   return query == std::string_view::npos ? target : target.substr(0, query);

@@ -6,6 +6,8 @@
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 
+#include "api/ports/domain_error.h"
+
 namespace mobot::api {
 
 namespace http = boost::beast::http;
@@ -17,6 +19,10 @@ Response error_response(const Request& request, int status, const std::string& c
                         const std::string& message);
 Response bytes_response(const Request& request, http::status status, std::string_view content_type,
                         std::string body);
+// The HTTP status of a refusal in the robot's terms: the one place the ports' ErrorKind meets HTTP.
+int http_status(ErrorKind kind);
+// A refusal from a port as `{"error":{"code","message"}}`, code and message as the port gave them.
+Response domain_error_response(const Request& request, const DomainError& error);
 // 204: done, nothing to say.
 Response no_content_response(const Request& request);
 

@@ -50,8 +50,8 @@ std::optional<std::int64_t> parse_id(std::string_view text) {
   return id;
 }
 
-RestApi::RestApi(RobotPort& port, StreamHub& hub, RestOptions options)
-    : port_(port), hub_(hub), options_(std::move(options)) {}
+RestApi::RestApi(const Ports& ports, StreamHub& hub, RestOptions options)
+    : ports_(ports), hub_(hub), options_(std::move(options)) {}
 
 std::size_t RestApi::body_limit(http::verb method, std::string_view target) {
   const std::string_view path = target_path(target);
@@ -61,22 +61,20 @@ std::size_t RestApi::body_limit(http::verb method, std::string_view target) {
   return kDefaultBodyLimit;
 }
 
-Response RestApi::handle(const Request& request) {
+void RestApi::handle(const Request& request, Responder respond) {
+  const Replier reply(request, [this, respond = std::move(respond)](Response response) {
+    count_response(response.result_int());
+    respond(std::move(response));
+  });
+  reply.answer([&] { return dispatch(request, reply); });
+}
+
+Handled RestApi::dispatch(const Request& request, const Replier& reply) {
   const std::string_view path = target_path(request.target());
-  Response response;
-  try {
-    if (path == "/metrics" || path.starts_with("/api/")) {
-      response = route(request, split_path(path));
-    } else {
-      response = serve_static(request, path);
-    }
-  } catch (const ApiError& error) {
-    response = error_response(request, error.http_status(), error.code(), error.what());
-  } catch (const std::exception& error) {
-    response = error_response(request, 500, "internal_error", error.what());
+  if (path == "/metrics" || path.starts_with("/api/")) {
+    return route(request, split_path(path), reply);
   }
-  count_response(response.result_int());
-  return response;
+  return serve_static(request, path);
 }
 
 void RestApi::count_response(unsigned status) {
@@ -87,7 +85,7 @@ void RestApi::count_response(unsigned status) {
 Role RestApi::require_role(const Request& request, Role needed) const {
   const std::string token = bearer_token(request);
   if (token.empty()) throw ApiError(401, "unauthorized", "missing bearer token");
-  const auto role = port_.authenticate(token);
+  const auto role = ports_.tokens.authenticate(token);
   if (!role) throw ApiError(401, "unauthorized", "unknown token");
   if (*role < needed) {
     throw ApiError(403, "forbidden",
@@ -100,10 +98,10 @@ Role RestApi::require_role(const Request& request, Role needed) const {
 std::optional<Role> RestApi::stream_role(const Request& request) const {
   const std::string token = query_parameter(request.target(), "token");
   if (token.empty()) return std::nullopt;
-  return port_.authenticate(token);
+  return ports_.tokens.authenticate(token);
 }
 
-Response RestApi::route(const Request& request, const Segments& path) {
+Handled RestApi::route(const Request& request, const Segments& path, const Replier& reply) {
   const auto method = request.method();
   if (path.size() == 1 && path[0] == "metrics") {
     if (method != http::verb::get) method_not_allowed();
@@ -118,13 +116,13 @@ Response RestApi::route(const Request& request, const Segments& path) {
     if (method != http::verb::get) method_not_allowed();
     return health(request);
   }
-  if (resource == "maps") return route_maps(request, path);
-  if (resource == "runs") return route_runs(request, path);
-  if (resource == "sim" || resource == "worlds") return route_sim(request, path);
+  if (resource == "maps") return route_maps(request, path, reply);
+  if (resource == "runs") return route_runs(request, path, reply);
+  if (resource == "sim" || resource == "worlds") return route_sim(request, path, reply);
   if (resource == "tokens") return route_tokens(request, path);
-  if (resource == "goals") return route_goals(request, path);
-  if (resource == "localization") return route_localization(request, path);
-  if (resource == "sweeps") return route_sweeps(request, path);
+  if (resource == "goals") return route_goals(request, path, reply);
+  if (resource == "localization") return route_localization(request, path, reply);
+  if (resource == "sweeps") return route_sweeps(request, path, reply);
   if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
   if (resource == "robot") {
     if (method != http::verb::get) method_not_allowed();
@@ -139,12 +137,12 @@ Response RestApi::route(const Request& request, const Segments& path) {
   if (resource == "teleop") {
     if (method != http::verb::post) method_not_allowed();
     require_role(request, Role::kOperator);
-    return teleop(request);
+    return teleop(request, reply);
   }
   if (resource == "estop") {
     if (method != http::verb::post) method_not_allowed();
     require_role(request, Role::kOperator);
-    return estop(request);
+    return estop(request, reply);
   }
   throw ApiError(404, "not_found", "no such endpoint");
 }
@@ -153,29 +151,36 @@ Response RestApi::health(const Request& request) const {
   return json_response(request, http::status::ok,
                        {{"status", "ok"},
                         {"version", options_.version},
-                        {"backend", port_.backend_name()},
-                        {"uptime_s", port_.uptime_s()}});
+                        {"backend", ports_.system.backend_name()},
+                        {"uptime_s", ports_.system.uptime_s()}});
 }
 
 Response RestApi::robot(const Request& request) const {
-  return json_response(request, http::status::ok, snapshot_json(port_.snapshot()));
+  return json_response(request, http::status::ok, snapshot_json(ports_.control.snapshot()));
 }
 
-Response RestApi::teleop(const Request& request) {
+Handled RestApi::teleop(const Request& request, const Replier& reply) {
   const TeleopRequest command = parse_teleop(parse_json_body(request.body()));
-  const msgs::Twist applied = port_.teleop(command.twist, command.ttl_ms);
-  return json_response(request, http::status::ok,
-                       {{"v", applied.linear_mps}, {"w", applied.angular_radps}});
+  ports_.control.teleop(
+      command.twist, command.ttl_ms,
+      reply.completion<msgs::Twist>([](const Request& head, const msgs::Twist& applied) {
+        return json_response(head, http::status::ok,
+                             {{"v", applied.linear_mps}, {"w", applied.angular_radps}});
+      }));
+  return kReplyLater;
 }
 
-Response RestApi::estop(const Request& request) {
+Handled RestApi::estop(const Request& request, const Replier& reply) {
   const bool engaged = require_bool(parse_json_body(request.body()), "engaged");
-  return json_response(request, http::status::ok, {{"estop", port_.set_estop(engaged)}});
+  ports_.control.set_estop(engaged, reply.completion<bool>([](const Request& head, bool state) {
+    return json_response(head, http::status::ok, {{"estop", state}});
+  }));
+  return kReplyLater;
 }
 
 Response RestApi::metrics(const Request& request) const {
   return bytes_response(request, http::status::ok, "text/plain; version=0.0.4",
-                        metrics_text() + hub_.metrics_text() + port_.metrics_text());
+                        metrics_text() + hub_.metrics_text() + ports_.system.metrics_text());
 }
 
 std::string RestApi::metrics_text() const {

@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "api/http_types.h"
-#include "api/robot_port.h"
+#include "api/ports/ports.h"
+#include "api/rest_reply.h"
 #include "api/stream_hub.h"
 
 namespace mobot::api {
@@ -21,12 +22,17 @@ struct RestOptions {
 };
 
 // The REST API of CONTRACT.md and the dashboard's static files. handle() never throws: every
-// failure becomes a JSON error response, and a refused request changes nothing.
+// failure becomes a JSON error response, and a refused request changes nothing. A request that
+// waits for the robot (a command on the control loop, a read behind the recorder's commit) is
+// answered from its port's Completion, on whichever thread that runs; the others are answered
+// before handle() returns. The API, and the io_context its sessions run on, must outlive every
+// Completion it handed out: the server stops whatever completes them before destroying either.
 class RestApi {
  public:
-  RestApi(RobotPort& port, StreamHub& hub, RestOptions options);
+  RestApi(const Ports& ports, StreamHub& hub, RestOptions options);
 
-  Response handle(const Request& request);
+  // Sends the response to `request` through `respond`, exactly once, now or later.
+  void handle(const Request& request, Responder respond);
   // The role a stream upgrade request authenticates as (?token=), or nullopt.
   std::optional<Role> stream_role(const Request& request) const;
   // The largest body accepted for a request line, checked before the body is read.
@@ -39,40 +45,54 @@ class RestApi {
  private:
   using Segments = std::vector<std::string_view>;
 
-  Response route(const Request& request, const Segments& path);
-  Response route_maps(const Request& request, const Segments& path);
-  Response route_runs(const Request& request, const Segments& path);
-  Response route_sim(const Request& request, const Segments& path);
+  Handled dispatch(const Request& request, const Replier& reply);
+  Handled route(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_maps(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_runs(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_sim(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_sim_obstacles(const Request& request, const Segments& path, const Replier& reply);
   Response route_tokens(const Request& request, const Segments& path);
-  Response route_goals(const Request& request, const Segments& path);
-  Response route_localization(const Request& request, const Segments& path);
-  Response route_sweeps(const Request& request, const Segments& path);
+  Handled route_goals(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_goal(const Request& request, std::string_view id_text, const Replier& reply);
+  Handled route_localization(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_sweeps(const Request& request, const Segments& path, const Replier& reply);
+  Response route_sweep(const Request& request, const Segments& path);
   Response serve_static(const Request& request, std::string_view path) const;
   Role require_role(const Request& request, Role needed) const;
 
   Response health(const Request& request) const;
   Response robot(const Request& request) const;
-  Response teleop(const Request& request);
-  Response estop(const Request& request);
+  Handled teleop(const Request& request, const Replier& reply);
+  Handled estop(const Request& request, const Replier& reply);
   Response metrics(const Request& request) const;
   Response openapi(const Request& request) const;
+
+  Handled submit_goal(const Request& request, const Replier& reply);
+  Handled set_pose(const Request& request, const Replier& reply);
 
   Response list_maps(const Request& request) const;
   Response import_map(const Request& request);
   Response map_info(const Request& request, std::int64_t id) const;
   Response map_export(const Request& request, std::int64_t id, std::string_view what) const;
-  Response activate_map(const Request& request, std::int64_t id);
+  Handled activate_map(std::int64_t id, const Replier& reply);
   Response delete_map(const Request& request, std::int64_t id);
 
-  Response list_runs(const Request& request) const;
-  Response run_trajectory(const Request& request, std::int64_t id) const;
-  Response run_events(const Request& request, std::int64_t id) const;
+  Handled list_runs(const Replier& reply) const;
+  Handled find_run(std::int64_t id, const Replier& reply) const;
+  Handled run_trajectory(const Request& request, std::int64_t id, const Replier& reply) const;
+  Handled run_events(std::int64_t id, const Replier& reply) const;
 
-  Response sim_reset(const Request& request);
+  Response list_worlds(const Request& request) const;
+  Response sim_truth(const Request& request) const;
+  Handled sim_reset(const Request& request, const Replier& reply);
   Response sim_clock(const Request& request);
-  Response add_obstacle(const Request& request);
+  Handled add_obstacle(const Request& request, const Replier& reply);
+  Handled remove_obstacle(std::string_view id_text, const Replier& reply);
 
-  RobotPort& port_;
+  Handled start_sweep(const Request& request, const Replier& reply);
+  Response sweep_cloud(const Request& request, std::int64_t id) const;
+
+  Ports ports_;
   StreamHub& hub_;
   RestOptions options_;
   std::array<std::atomic<std::uint64_t>, 6> responses_by_class_{};

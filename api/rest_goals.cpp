@@ -11,37 +11,40 @@
 namespace mobot::api {
 namespace {
 
-constexpr std::array<std::string_view, 2> kPlanners{"astar", "voronoi"};
-constexpr std::array<std::string_view, 4> kControllers{"lyapunov", "pure_pursuit", "dwa",
-                                                       "potential_field"};
-// What this build runs; the others are in the contract but not implemented yet.
-constexpr std::array<std::string_view, 2> kAvailablePlanners{"astar", "voronoi"};
-constexpr std::array<std::string_view, 1> kAvailableControllers{"lyapunov"};
+// The contract's words for planners and controllers. A name the runtime's registry does not know
+// is refused as unsupported when the contract has it (a build without that algorithm), and as an
+// invalid field otherwise.
+constexpr std::array<std::string_view, 2> kContractPlanners{"astar", "voronoi"};
+constexpr std::array<std::string_view, 5> kContractControllers{"lyapunov", "pure_pursuit", "dwa",
+                                                               "potential_field", "vfh"};
 
-template <std::size_t N, std::size_t M>
-std::string choose(const nlohmann::json& body, const char* key, std::string_view fallback,
-                   const std::array<std::string_view, N>& allowed,
-                   const std::array<std::string_view, M>& available) {
-  if (!body.contains(key)) return std::string(fallback);
-  const std::string value = require_string(body, key, 32);
-  if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
-    std::string list;
-    for (const auto name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-    throw ApiError(400, "invalid_field", "'" + std::string(key) + "' must be one of " + list);
-  }
-  if (std::find(available.begin(), available.end(), value) == available.end()) {
-    throw ApiError(422, "unsupported_" + std::string(key),
-                   "the " + std::string(key) + " '" + value + "' is not available in this build");
-  }
-  return value;
+std::string join(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
+  return list;
 }
 
-GoalRequest parse_goal(const nlohmann::json& body) {
+template <std::size_t N>
+std::string choose(const nlohmann::json& body, const std::string& key, std::string_view fallback,
+                   const std::array<std::string_view, N>& contract,
+                   const std::vector<std::string>& known) {
+  if (!body.contains(key)) return std::string(fallback);
+  const std::string value = require_string(body, key.c_str(), 32);
+  if (std::find(known.begin(), known.end(), value) != known.end()) return value;
+  if (std::find(contract.begin(), contract.end(), value) != contract.end()) {
+    throw DomainException(ErrorKind::kImpossible, "unsupported_" + key,
+                          "the " + key + " '" + value + "' is not available in this build");
+  }
+  throw ApiError(400, "invalid_field", "'" + key + "' must be one of " + join(known));
+}
+
+GoalRequest parse_goal(const nlohmann::json& body, const ControlPort& control) {
   GoalRequest request;
   request.has_heading = body.contains("theta") && !body["theta"].is_null();
   request.target = parse_pose(body, false);
-  request.planner = choose(body, "planner", "astar", kPlanners, kAvailablePlanners);
-  request.controller = choose(body, "controller", "lyapunov", kControllers, kAvailableControllers);
+  request.planner = choose(body, "planner", "astar", kContractPlanners, control.planner_names());
+  request.controller =
+      choose(body, "controller", "lyapunov", kContractControllers, control.controller_names());
   return request;
 }
 
@@ -74,58 +77,76 @@ std::array<double, 9> parse_covariance(const nlohmann::json& body) {
 
 }  // namespace
 
-Response RestApi::route_goals(const Request& request, const Segments& path) {
+Handled RestApi::route_goals(const Request& request, const Segments& path, const Replier& reply) {
   const auto method = request.method();
-  if (path.size() == 3) {
-    if (method == http::verb::get) {
-      require_role(request, Role::kViewer);
-      nlohmann::json goals = nlohmann::json::array();
-      for (const auto& goal : port_.list_goals()) goals.push_back(goal_json(goal));
-      return json_response(request, http::status::ok, goals);
-    }
-    if (method == http::verb::post) {
-      require_role(request, Role::kOperator);
-      const GoalRequest goal_request = parse_goal(parse_json_body(request.body()));
-      return json_response(request, http::status::created,
-                           goal_json(port_.submit_goal(goal_request)));
-    }
-    throw ApiError(405, "method_not_allowed", "use GET or POST on /api/v1/goals");
+  if (path.size() == 4) return route_goal(request, path[3], reply);
+  if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
+  if (method == http::verb::get) {
+    require_role(request, Role::kViewer);
+    nlohmann::json goals = nlohmann::json::array();
+    for (const auto& goal : ports_.control.list_goals()) goals.push_back(goal_json(goal));
+    return json_response(request, http::status::ok, goals);
   }
-  if (path.size() != 4) throw ApiError(404, "not_found", "no such endpoint");
-  const auto id = parse_id(path[3]);
+  if (method == http::verb::post) {
+    require_role(request, Role::kOperator);
+    return submit_goal(request, reply);
+  }
+  throw ApiError(405, "method_not_allowed", "use GET or POST on /api/v1/goals");
+}
+
+Handled RestApi::submit_goal(const Request& request, const Replier& reply) {
+  const GoalRequest goal_request = parse_goal(parse_json_body(request.body()), ports_.control);
+  ports_.control.submit_goal(
+      goal_request,
+      reply.completion<navigation::Goal>([](const Request& head, const navigation::Goal& goal) {
+        return json_response(head, http::status::created, goal_json(goal));
+      }));
+  return kReplyLater;
+}
+
+Handled RestApi::route_goal(const Request& request, std::string_view id_text,
+                            const Replier& reply) {
+  const auto method = request.method();
+  const auto id = parse_id(id_text);
   if (method == http::verb::get) {
     require_role(request, Role::kViewer);
     if (!id) unknown_goal();
-    const auto goal = port_.find_goal(*id);
+    const auto goal = ports_.control.find_goal(*id);
     if (!goal) unknown_goal();
     return json_response(request, http::status::ok, goal_json(*goal));
   }
   if (method == http::verb::delete_) {
     require_role(request, Role::kOperator);
     if (!id) unknown_goal();
-    const auto before = port_.find_goal(*id);
-    if (!before) unknown_goal();
-    if (before->finished()) {
-      throw ApiError(409, "goal_finished",
-                     "the goal has already ended (" +
-                         std::string(navigation::to_string(before->status)) + ")");
-    }
-    return json_response(request, http::status::ok, goal_json(port_.cancel_goal(*id)));
+    ports_.control.cancel_goal(
+        *id,
+        reply.completion<navigation::Goal>([](const Request& head, const navigation::Goal& goal) {
+          return json_response(head, http::status::ok, goal_json(goal));
+        }));
+    return kReplyLater;
   }
   throw ApiError(405, "method_not_allowed", "use GET or DELETE on a goal");
 }
 
-Response RestApi::route_localization(const Request& request, const Segments& path) {
+Handled RestApi::route_localization(const Request& request, const Segments& path,
+                                    const Replier& reply) {
   if (path.size() != 4 || path[3] != "pose") throw ApiError(404, "not_found", "no such endpoint");
   if (request.method() != http::verb::post) {
     throw ApiError(405, "method_not_allowed", "use POST to set the pose");
   }
   require_role(request, Role::kOperator);
+  return set_pose(request, reply);
+}
+
+Handled RestApi::set_pose(const Request& request, const Replier& reply) {
   const nlohmann::json body = parse_json_body(request.body());
   const geometry::Pose2D pose = parse_pose(body, true);
   const std::array<double, 9> cov = parse_covariance(body);
-  port_.set_localization_pose(pose, cov);
-  return json_response(request, http::status::ok, {{"pose", pose_json(pose)}, {"cov", cov}});
+  ports_.control.set_localization_pose(
+      pose, cov, reply.completion<Done>([pose, cov](const Request& head, const Done&) {
+        return json_response(head, http::status::ok, {{"pose", pose_json(pose)}, {"cov", cov}});
+      }));
+  return kReplyLater;
 }
 
 }  // namespace mobot::api

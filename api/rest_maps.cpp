@@ -49,7 +49,7 @@ nlohmann::json map_info_json(const MapInfo& info) {
 
 }  // namespace
 
-Response RestApi::route_maps(const Request& request, const Segments& path) {
+Handled RestApi::route_maps(const Request& request, const Segments& path, const Replier& reply) {
   const auto method = request.method();
   if (path.size() == 3) {
     if (method == http::verb::get) {
@@ -84,7 +84,7 @@ Response RestApi::route_maps(const Request& request, const Segments& path) {
       }
       require_role(request, Role::kOperator);
       if (!id) unknown_map();
-      return activate_map(request, *id);
+      return activate_map(*id, reply);
     }
     if (what == "image" || what == "map.pgm" || what == "map.yaml") {
       if (method != http::verb::get) {
@@ -100,7 +100,7 @@ Response RestApi::route_maps(const Request& request, const Segments& path) {
 
 Response RestApi::list_maps(const Request& request) const {
   nlohmann::json maps = nlohmann::json::array();
-  for (const auto& info : port_.list_maps()) maps.push_back(map_info_json(info));
+  for (const auto& info : ports_.maps.list_maps()) maps.push_back(map_info_json(info));
   return json_response(request, http::status::ok, maps);
 }
 
@@ -125,19 +125,19 @@ Response RestApi::import_map(const Request& request) {
   } catch (const mapping::MapImageError& error) {
     throw ApiError(400, "invalid_image", error.what());
   }
-  const std::int64_t id = port_.import_map(name, grid);
+  const std::int64_t id = ports_.maps.import_map(name, grid);
   return json_response(request, http::status::created, {{"id", id}});
 }
 
 Response RestApi::map_info(const Request& request, std::int64_t id) const {
-  const auto info = port_.map_info(id);
+  const auto info = ports_.maps.map_info(id);
   if (!info) unknown_map();
   return json_response(request, http::status::ok, map_info_json(*info));
 }
 
 Response RestApi::map_export(const Request& request, std::int64_t id,
                              std::string_view what) const {
-  const auto grid = port_.map_grid(id);
+  const auto grid = ports_.maps.map_grid(id);
   if (!grid) unknown_map();
   if (what == "image") {
     const auto png = mapping::encode_map_png(*grid);
@@ -156,15 +156,16 @@ Response RestApi::map_export(const Request& request, std::int64_t id,
   return response;
 }
 
-Response RestApi::activate_map(const Request& request, std::int64_t id) {
-  port_.activate_map(id);
-  const auto info = port_.map_info(id);
-  if (!info) unknown_map();
-  return json_response(request, http::status::ok, map_info_json(*info));
+Handled RestApi::activate_map(std::int64_t id, const Replier& reply) {
+  ports_.maps.activate_map(id,
+                           reply.completion<MapInfo>([](const Request& head, const MapInfo& info) {
+                             return json_response(head, http::status::ok, map_info_json(info));
+                           }));
+  return kReplyLater;
 }
 
 Response RestApi::delete_map(const Request& request, std::int64_t id) {
-  port_.delete_map(id);
+  ports_.maps.delete_map(id);
   return no_content_response(request);
 }
 

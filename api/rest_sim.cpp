@@ -4,69 +4,71 @@
 #include "api/rest_api.h"
 
 namespace mobot::api {
-namespace {
 
-Response ok(const Request& request) {
-  return json_response(request, http::status::ok, {{"ok", true}});
-}
-
-}  // namespace
-
-Response RestApi::route_sim(const Request& request, const Segments& path) {
+Handled RestApi::route_sim(const Request& request, const Segments& path, const Replier& reply) {
   const auto method = request.method();
-  if (!port_.is_simulated()) {
+  if (ports_.sim == nullptr) {
     throw ApiError(404, "not_simulated", "this endpoint exists only on the simulated backend");
   }
   if (path[2] == "worlds" && path.size() == 3) {
     if (method != http::verb::get) throw ApiError(405, "method_not_allowed", "use GET");
     require_role(request, Role::kViewer);
-    nlohmann::json worlds = nlohmann::json::array();
-    for (const auto& world : port_.list_worlds()) {
-      worlds.push_back({{"name", world.name}, {"description", world.description}});
-    }
-    return json_response(request, http::status::ok, worlds);
+    return list_worlds(request);
   }
   if (path[2] != "sim" || path.size() < 4) throw ApiError(404, "not_found", "no such endpoint");
   const std::string_view what = path[3];
-  if (what == "truth" && path.size() == 4) {
+  if (what == "obstacles") return route_sim_obstacles(request, path, reply);
+  if (path.size() != 4) throw ApiError(404, "not_found", "no such endpoint");
+  if (what == "truth") {
     if (method != http::verb::get) throw ApiError(405, "method_not_allowed", "use GET");
     require_role(request, Role::kViewer);
-    const SimTruth truth = port_.sim_truth();
-    return json_response(request, http::status::ok,
-                         {{"t", truth.t_s}, {"pose", pose_json(truth.pose)},
-                          {"collisions", truth.collisions}});
+    return sim_truth(request);
   }
-  if (what == "reset" && path.size() == 4) {
+  if (what == "reset") {
     if (method != http::verb::post) throw ApiError(405, "method_not_allowed", "use POST");
     require_role(request, Role::kOperator);
-    return sim_reset(request);
+    return sim_reset(request, reply);
   }
-  if (what == "clock" && path.size() == 4) {
+  if (what == "clock") {
     if (method != http::verb::put) throw ApiError(405, "method_not_allowed", "use PUT");
     require_role(request, Role::kOperator);
     return sim_clock(request);
   }
-  if (what == "obstacles" && path.size() == 4) {
+  throw ApiError(404, "not_found", "no such endpoint");
+}
+
+Handled RestApi::route_sim_obstacles(const Request& request, const Segments& path,
+                                     const Replier& reply) {
+  const auto method = request.method();
+  if (path.size() == 4) {
     if (method != http::verb::post) throw ApiError(405, "method_not_allowed", "use POST");
     require_role(request, Role::kOperator);
-    return add_obstacle(request);
+    return add_obstacle(request, reply);
   }
-  if (what == "obstacles" && path.size() == 5) {
+  if (path.size() == 5) {
     if (method != http::verb::delete_) throw ApiError(405, "method_not_allowed", "use DELETE");
     require_role(request, Role::kOperator);
-    const auto id = parse_id(path[4]);
-    if (!id || *id > 1'000'000'000 || !port_.remove_sim_obstacle(static_cast<int>(*id))) {
-      throw ApiError(404, "unknown_obstacle", "no obstacle with this id");
-    }
-    Response response{http::status::no_content, request.version()};
-    response.keep_alive(request.keep_alive());
-    response.prepare_payload();
-    return response;
+    return remove_obstacle(path[4], reply);
   }
   throw ApiError(404, "not_found", "no such endpoint");
 }
 
-Response RestApi::sim_reset(const Request& request) {
+Response RestApi::list_worlds(const Request& request) const {
+  nlohmann::json worlds = nlohmann::json::array();
+  for (const auto& world : ports_.sim->list_worlds()) {
+    worlds.push_back({{"name", world.name}, {"description", world.description}});
+  }
+  return json_response(request, http::status::ok, worlds);
+}
+
+Response RestApi::sim_truth(const Request& request) const {
+  const SimTruth truth = ports_.sim->sim_truth();
+  return json_response(
+      request, http::status::ok,
+      {{"t", truth.t_s}, {"pose", pose_json(truth.pose)}, {"collisions", truth.collisions}});
+}
+
+Handled RestApi::sim_reset(const Request& request, const Replier& reply) {
   const nlohmann::json body =
       request.body().empty() ? nlohmann::json::object() : parse_json_body(request.body());
   SimResetRequest reset;
@@ -79,24 +81,42 @@ Response RestApi::sim_reset(const Request& request) {
   if (const auto seed = optional_number(body, "seed", 0.0, 9007199254740991.0)) {
     reset.seed = static_cast<std::uint64_t>(*seed);
   }
-  port_.sim_reset(reset);
-  return ok(request);
+  ports_.sim->sim_reset(reset, reply.completion<Done>([](const Request& head, const Done&) {
+    return json_response(head, http::status::ok, {{"ok", true}});
+  }));
+  return kReplyLater;
 }
 
 Response RestApi::sim_clock(const Request& request) {
   const double time_scale = require_number(parse_json_body(request.body()), "time_scale", 0.1, 100.0);
-  port_.set_time_scale(time_scale);
+  ports_.sim->set_time_scale(time_scale);
   return json_response(request, http::status::ok, {{"time_scale", time_scale}});
 }
 
-Response RestApi::add_obstacle(const Request& request) {
+Handled RestApi::add_obstacle(const Request& request, const Replier& reply) {
   const nlohmann::json body = parse_json_body(request.body());
-  const double x_m = require_number(body, "x", -1e4, 1e4);
-  const double y_m = require_number(body, "y", -1e4, 1e4);
-  const double radius_m = require_number(body, "radius", 0.01, 10.0);
-  const double height_m = optional_number(body, "height", 0.01, 100.0).value_or(2.0);
-  const int id = port_.add_sim_obstacle(x_m, y_m, radius_m, height_m);
-  return json_response(request, http::status::created, {{"id", id}});
+  SimObstacleRequest obstacle;
+  obstacle.x_m = require_number(body, "x", -1e4, 1e4);
+  obstacle.y_m = require_number(body, "y", -1e4, 1e4);
+  obstacle.radius_m = require_number(body, "radius", 0.01, 10.0);
+  obstacle.height_m = optional_number(body, "height", 0.01, 100.0).value_or(2.0);
+  ports_.sim->add_sim_obstacle(obstacle, reply.completion<int>([](const Request& head, int id) {
+    return json_response(head, http::status::created, {{"id", id}});
+  }));
+  return kReplyLater;
+}
+
+Handled RestApi::remove_obstacle(std::string_view id_text, const Replier& reply) {
+  // Obstacle ids are ints: a larger id names no obstacle.
+  const auto id = parse_id(id_text);
+  if (!id || *id > 1'000'000'000) {
+    throw ApiError(404, "unknown_obstacle", "no obstacle with this id");
+  }
+  ports_.sim->remove_sim_obstacle(static_cast<int>(*id),
+                                  reply.completion<Done>([](const Request& head, const Done&) {
+                                    return no_content_response(head);
+                                  }));
+  return kReplyLater;
 }
 
 }  // namespace mobot::api

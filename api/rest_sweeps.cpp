@@ -48,30 +48,40 @@ nlohmann::json obstacle_map_json(std::int64_t id, const mapping::OccupancyGrid& 
 
 }  // namespace
 
-Response RestApi::route_sweeps(const Request& request, const Segments& path) {
+Handled RestApi::route_sweeps(const Request& request, const Segments& path, const Replier& reply) {
   const auto method = request.method();
-  if (path.size() == 3) {
-    if (method == http::verb::get) {
-      require_role(request, Role::kViewer);
-      nlohmann::json sweeps = nlohmann::json::array();
-      for (const auto& sweep : port_.list_sweeps()) sweeps.push_back(sweep_json(sweep));
-      return json_response(request, http::status::ok, sweeps);
-    }
-    if (method == http::verb::post) {
-      require_role(request, Role::kOperator);
-      const SweepRequest sweep_request = parse_sweep(request.body());
-      return json_response(request, http::status::created,
-                           sweep_json(port_.start_sweep(sweep_request)));
-    }
-    throw ApiError(405, "method_not_allowed", "use GET or POST on /api/v1/sweeps");
+  if (path.size() == 4 || path.size() == 5) return route_sweep(request, path);
+  if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
+  if (method == http::verb::get) {
+    require_role(request, Role::kViewer);
+    nlohmann::json sweeps = nlohmann::json::array();
+    for (const auto& sweep : ports_.sweeps.list_sweeps()) sweeps.push_back(sweep_json(sweep));
+    return json_response(request, http::status::ok, sweeps);
   }
-  if (path.size() != 4 && path.size() != 5) throw ApiError(404, "not_found", "no such endpoint");
+  if (method == http::verb::post) {
+    require_role(request, Role::kOperator);
+    return start_sweep(request, reply);
+  }
+  throw ApiError(405, "method_not_allowed", "use GET or POST on /api/v1/sweeps");
+}
+
+Handled RestApi::start_sweep(const Request& request, const Replier& reply) {
+  const SweepRequest sweep_request = parse_sweep(request.body());
+  ports_.sweeps.start_sweep(
+      sweep_request, reply.completion<SweepInfo>([](const Request& head, const SweepInfo& sweep) {
+        return json_response(head, http::status::created, sweep_json(sweep));
+      }));
+  return kReplyLater;
+}
+
+Response RestApi::route_sweep(const Request& request, const Segments& path) {
+  const auto method = request.method();
   const auto id = parse_id(path[3]);
   if (path.size() == 4 && method == http::verb::delete_) {
     // Like a map, stored data only an admin removes.
     require_role(request, Role::kAdmin);
     if (!id) unknown_sweep();
-    port_.delete_sweep(*id);
+    ports_.sweeps.delete_sweep(*id);
     return no_content_response(request);
   }
   if (method != http::verb::get) {
@@ -81,37 +91,39 @@ Response RestApi::route_sweeps(const Request& request, const Segments& path) {
   require_role(request, Role::kViewer);
   if (!id) unknown_sweep();
   if (path.size() == 4) {
-    const auto sweep = port_.find_sweep(*id);
+    const auto sweep = ports_.sweeps.find_sweep(*id);
     if (!sweep) unknown_sweep();
     return json_response(request, http::status::ok, sweep_json(*sweep));
   }
-  if (path[4] == "cloud") {
-    std::string format = query_parameter(request.target(), "format");
-    if (format.empty()) format = "ply";
-    if (format != "ply" && format != "bin") {
-      throw ApiError(400, "invalid_format", "format must be ply or bin");
-    }
-    const perception::PointCloud cloud = port_.sweep_cloud(*id);
-    if (format == "ply") {
-      Response response =
-          bytes_response(request, http::status::ok, "application/octet-stream", encode_ply(cloud));
-      response.set(http::field::content_disposition,
-                   "attachment; filename=\"sweep-" + std::to_string(*id) + ".ply\"");
-      return response;
-    }
-    // The bytes of one `cloud` stream frame holding the whole sweep (README "Binary frames").
-    const auto sweep = port_.find_sweep(*id);
-    const auto scans = static_cast<std::uint32_t>(sweep ? sweep->scans : 0);
-    const CloudChunk chunk{static_cast<std::uint32_t>(*id), 0, true, scans, scans};
-    const FrameStamp stamp{sweep && sweep->ended_t ? *sweep->ended_t : 0.0, 0, 0};
-    return bytes_response(request, http::status::ok, "application/octet-stream",
-                          encode_binary_cloud(stamp, chunk, cloud));
-  }
+  if (path[4] == "cloud") return sweep_cloud(request, *id);
   if (path[4] == "obstacle_map") {
     return json_response(request, http::status::ok,
-                         obstacle_map_json(*id, port_.sweep_obstacle_map(*id)));
+                         obstacle_map_json(*id, ports_.sweeps.sweep_obstacle_map(*id)));
   }
   throw ApiError(404, "not_found", "no such endpoint");
+}
+
+Response RestApi::sweep_cloud(const Request& request, std::int64_t id) const {
+  std::string format = query_parameter(request.target(), "format");
+  if (format.empty()) format = "ply";
+  if (format != "ply" && format != "bin") {
+    throw ApiError(400, "invalid_format", "format must be ply or bin");
+  }
+  const perception::PointCloud cloud = ports_.sweeps.sweep_cloud(id);
+  if (format == "ply") {
+    Response response =
+        bytes_response(request, http::status::ok, "application/octet-stream", encode_ply(cloud));
+    response.set(http::field::content_disposition,
+                 "attachment; filename=\"sweep-" + std::to_string(id) + ".ply\"");
+    return response;
+  }
+  // The bytes of one `cloud` stream frame holding the whole sweep (README "Binary frames").
+  const auto sweep = ports_.sweeps.find_sweep(id);
+  const auto scans = static_cast<std::uint32_t>(sweep ? sweep->scans : 0);
+  const CloudChunk chunk{static_cast<std::uint32_t>(id), 0, true, scans, scans};
+  const FrameStamp stamp{sweep && sweep->ended_t ? *sweep->ended_t : 0.0, 0, 0};
+  return bytes_response(request, http::status::ok, "application/octet-stream",
+                        encode_binary_cloud(stamp, chunk, cloud));
 }
 
 }  // namespace mobot::api

@@ -31,7 +31,7 @@ Response RestApi::route_tokens(const Request& request, const Segments& path) {
   const auto method = request.method();
   if (path.size() == 3 && method == http::verb::get) {
     nlohmann::json tokens = nlohmann::json::array();
-    for (const auto& token : port_.list_tokens()) {
+    for (const auto& token : ports_.tokens.list_tokens()) {
       tokens.push_back({{"id", token.id},
                         {"role", role_name(token.role)},
                         {"label", token.label},
@@ -45,13 +45,13 @@ Response RestApi::route_tokens(const Request& request, const Segments& path) {
     const Role role = parse_role(require_string(body, "role", 16));
     std::string label;
     if (body.contains("label")) label = require_string(body, "label", 128);
-    const auto [id, token] = port_.create_token(role, label);
+    const auto [id, token] = ports_.tokens.create_token(role, label);
     return json_response(request, http::status::created,
                          {{"id", id}, {"role", role_name(role)}, {"token", token}});
   }
   if (path.size() == 4 && method == http::verb::delete_) {
     const auto id = parse_id(path[3]);
-    if (!id || !port_.revoke_token(*id)) {
+    if (!id || !ports_.tokens.revoke_token(*id)) {
       throw ApiError(404, "unknown_token", "no token with this id");
     }
     Response response{http::status::no_content, request.version()};

@@ -117,34 +117,49 @@ void StreamHub::publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2
 
 void StreamHub::publish_map(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
                             std::int64_t map_id) {
-  const FrameStamp stamp = next_stamp(TopicId::kMap, t_s);
+  LatestMap map{std::move(grid), map_id, next_stamp(TopicId::kMap, t_s), 0, {}};
+  map.frame.wall_us = map.stamp.wall_us;
   {
     std::lock_guard lock(mutex_);
-    map_ = std::move(grid);
-    map_id_ = map_id;
-    map_stamp_ = stamp;
-    map_frame_ = {};
+    map.generation = map_.generation + 1;
+    map_ = map;
   }
+  // The map is current before the subscriber counts are read: a client counted here gets it in
+  // the batch, one that subscribes later gets it from latest_map_frame().
   if (!wanted(TopicId::kMap)) return;
-  SharedFrame frame;
   const auto i = topic_index(TopicId::kMap);
-  if (json_subscribers_[i].load() > 0) frame.json = latest_map_frame(false).json;
-  if (binary_subscribers_[i].load() > 0) frame.binary = latest_map_frame(true).binary;
-  frame.wall_us = stamp.wall_us;
-  distribute(TopicId::kMap, frame);
+  if (json_subscribers_[i].load() > 0) complete_map_frame(map, false);
+  if (binary_subscribers_[i].load() > 0) complete_map_frame(map, true);
+  if (map.frame.json || map.frame.binary) distribute(TopicId::kMap, map.frame);
 }
 
 SharedFrame StreamHub::latest_map_frame(bool binary) {
+  LatestMap map;
+  {
+    std::lock_guard lock(mutex_);
+    map = map_;
+  }
+  complete_map_frame(map, binary);
+  return map.frame;
+}
+
+void StreamHub::complete_map_frame(LatestMap& map, bool binary) {
+  auto& frame = binary ? map.frame.binary : map.frame.json;
+  if (!map.grid || frame) return;
+  // Encoded outside the lock: a large map takes long, and every publication of the control loop
+  // takes this lock.
+  frame = binary ? as_binary_frame(encode_binary_map(map.stamp, *map.grid, map.id))
+                 : as_text_frame(encode_json_frame("map", map.stamp, map_json(*map.grid, map.id)));
   std::lock_guard lock(mutex_);
-  if (!map_) return {};
-  map_frame_.wall_us = map_stamp_.wall_us;
-  if (binary && !map_frame_.binary) {
-    map_frame_.binary = as_binary_frame(encode_binary_map(map_stamp_, *map_, map_id_));
+  // Kept for later subscribers while its map is current; of two threads that encoded it at the
+  // same time, the first one's frame is shared.
+  if (map_.generation != map.generation) return;
+  auto& kept = binary ? map_.frame.binary : map_.frame.json;
+  if (kept) {
+    frame = kept;
+  } else {
+    kept = frame;
   }
-  if (!binary && !map_frame_.json) {
-    map_frame_.json = as_text_frame(encode_json_frame("map", map_stamp_, map_json(*map_, map_id_)));
-  }
-  return map_frame_;
 }
 
 void StreamHub::publish_status(const RobotSnapshot& snapshot) {

@@ -13,7 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "api/frame_codec.h"
-#include "api/robot_port.h"
+#include "api/ports/control_port.h"
+#include "api/ports/sim_control_port.h"
 #include "api/stream_topics.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/msgs/laser_scan.h"
@@ -27,6 +28,11 @@ struct StreamOptions {
   std::size_t max_frames_per_topic = 4;  // per client; the oldest is dropped beyond it
   std::size_t max_client_message_bytes = 64 * 1024;
   std::size_t max_control_frames = 256;  // replies a client has not read; beyond it, it is closed
+  // A client silent this long gets a WebSocket ping, and one silent for idle_timeout_ms is closed
+  // (1001) and released: a browser tab that vanished without a FIN must not hold a session. Zero
+  // turns the check off.
+  int ping_interval_ms = 15000;
+  int idle_timeout_ms = 45000;
   std::array<double, kTopicCount> nominal_rate_hz{};  // advertised in the hello
   bool simulated = true;
 };
@@ -97,6 +103,15 @@ class StreamHub {
  private:
   using SessionList = std::vector<std::shared_ptr<StreamSession>>;
   struct WritePass;
+  // The current map and the frames encoded from it so far. `generation` tells an encoding made
+  // outside the lock whether its map is still the current one.
+  struct LatestMap {
+    std::shared_ptr<const mapping::OccupancyGrid> grid;
+    std::int64_t id = 0;
+    FrameStamp stamp;
+    std::uint64_t generation = 0;
+    SharedFrame frame;
+  };
 
   bool wanted(TopicId topic) const;
   FrameStamp next_stamp(TopicId topic, double t_s);
@@ -104,6 +119,7 @@ class StreamHub {
   // A topic with a binary encoding: json_data() gives the JSON data, binary_frame(stamp) the frame.
   template <class JsonData, class BinaryFrame>
   void publish_bulk(TopicId topic, double t_s, JsonData&& json_data, BinaryFrame&& binary_frame);
+  void complete_map_frame(LatestMap& map, bool binary);
   void distribute(TopicId topic, const SharedFrame& frame);
   void start_pass_locked();
   void run_pass(WritePass& pass);
@@ -124,10 +140,7 @@ class StreamHub {
   bool pass_running_ = false;
   std::optional<boost::asio::any_io_executor> executor_;
   unsigned writers_ = 1;
-  std::shared_ptr<const mapping::OccupancyGrid> map_;
-  std::int64_t map_id_ = 0;
-  FrameStamp map_stamp_;
-  SharedFrame map_frame_;
+  LatestMap map_;
 
   std::atomic<std::uint64_t> frames_sent_{0};
   std::atomic<std::uint64_t> bytes_sent_{0};

@@ -1,5 +1,6 @@
 #include "api/stream_session.h"
 
+#include <algorithm>
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 #include <cmath>
@@ -14,16 +15,22 @@ namespace {
 // 10 Hz request on a 50 Hz topic does not alias down to 8.3 Hz through timing jitter.
 constexpr double kRateTolerance = 0.8;
 
+// RFC 6455 7.4.1: the endpoint is going away, here because its peer has gone silent.
+constexpr std::uint16_t kGoingAway = 1001;
+
 }  // namespace
 
-StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, RobotPort& port,
-                             Role role, std::string already_received)
+StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub,
+                             const Ports& ports, Role role, std::string already_received)
     : socket_(std::move(socket)),
       hub_(hub),
-      port_(port),
+      ports_(ports),
       role_(role),
       parser_(hub.options().max_client_message_bytes),
-      already_received_(std::move(already_received)) {}
+      already_received_(std::move(already_received)),
+      timer_(socket_.get_executor()),
+      last_heard_(Clock::now()),
+      last_ping_(last_heard_) {}
 
 StreamSession::~StreamSession() {
   for (std::size_t i = 0; i < kTopicCount; ++i) {
@@ -52,6 +59,7 @@ void StreamSession::start() {
       while (auto message = self->parser_.next()) self->handle_message(std::move(*message));
     }
     self->read_more();
+    self->watch_client();
   });
 }
 
@@ -102,6 +110,8 @@ void StreamSession::read_more() {
           self->shut_down();
           return;
         }
+        // Any bytes count, a pong or part of a long message alike: the client is there.
+        self->last_heard_ = Clock::now();
         self->parser_.feed({self->read_buffer_.data(), bytes});
         while (auto message = self->parser_.next()) self->handle_message(std::move(*message));
         if (self->parser_.failed()) {
@@ -110,6 +120,44 @@ void StreamSession::read_more() {
         }
         self->read_more();
       });
+}
+
+void StreamSession::watch_client() {
+  if (hub_.options().ping_interval_ms <= 0 || hub_.options().idle_timeout_ms <= 0) return;
+  timer_.expires_at(next_check());
+  timer_.async_wait([self = shared_from_this()](boost::system::error_code error) {
+    if (!error) self->check_client();
+  });
+}
+
+StreamSession::Clock::time_point StreamSession::next_check() const {
+  const std::chrono::milliseconds ping_interval(hub_.options().ping_interval_ms);
+  const std::chrono::milliseconds idle_timeout(hub_.options().idle_timeout_ms);
+  if (idle_closed_) return Clock::now() + ping_interval;
+  return std::min(last_heard_ + idle_timeout, std::max(last_heard_, last_ping_) + ping_interval);
+}
+
+void StreamSession::check_client() {
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+  }
+  if (idle_closed_) {
+    // The close frame did not get out: a client that neither reads nor writes is let go anyway.
+    shut_down();
+    return;
+  }
+  const auto now = Clock::now();
+  if (now - last_heard_ >= std::chrono::milliseconds(hub_.options().idle_timeout_ms)) {
+    idle_closed_ = true;
+    close(kGoingAway, "idle timeout");
+  } else if (now - std::max(last_heard_, last_ping_) >=
+             std::chrono::milliseconds(hub_.options().ping_interval_ms)) {
+    // RFC 6455 5.5.2: a client answers a ping with a pong, so a client that is there is heard.
+    last_ping_ = now;
+    queue_control(std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPing, "")));
+  }
+  watch_client();
 }
 
 void StreamSession::handle_message(WsMessage message) {
@@ -140,6 +188,8 @@ void StreamSession::handle_message(WsMessage message) {
     handle_op(request);
   } catch (const ApiError& error) {
     reply_error(error.code(), error.what());
+  } catch (const DomainException& error) {
+    reply_error(error.error().code, error.error().message);
   }
 }
 
@@ -155,7 +205,7 @@ void StreamSession::handle_op(const nlohmann::json& request) {
   } else if (op == "teleop") {
     teleop(request);
   } else if (op == "ping") {
-    nlohmann::json pong{{"op", "pong"}, {"t", port_.snapshot().t_s}};
+    nlohmann::json pong{{"op", "pong"}, {"t", ports_.control.time_s()}};
     pong["id"] = request.contains("id") ? request["id"] : nlohmann::json(nullptr);
     reply(pong);
   } else {
@@ -196,7 +246,7 @@ void StreamSession::subscribe(const nlohmann::json& request) {
   bool wants_map = false;
   for (const auto& name : names) {
     const auto topic = topic_from_name(name);
-    if (!topic || (topic_spec(*topic).sim_only && !port_.is_simulated())) {
+    if (!topic || (topic_spec(*topic).sim_only && ports_.sim == nullptr)) {
       unknown.push_back(name);
       continue;
     }
@@ -251,7 +301,27 @@ void StreamSession::teleop(const nlohmann::json& request) {
     throw ApiError(403, "forbidden", "teleop needs the operator role");
   }
   const TeleopRequest command = parse_teleop(request);
-  const msgs::Twist applied = port_.teleop(command.twist, command.ttl_ms);
+  // The command completes on the control loop. The reply is written from the strand, not from the
+  // control loop's thread, and only while the session lives: a closed session is not kept for it.
+  ports_.control.teleop(
+      command.twist, command.ttl_ms, [weak = weak_from_this()](Result<msgs::Twist> result) {
+        const auto self = weak.lock();
+        if (!self) return;
+        try {
+          boost::asio::post(self->socket_.get_executor(),
+                            [self, result = std::move(result)] { self->reply_teleop(result); });
+        } catch (...) {
+          // Out of memory: the reply is lost, the control loop is not.
+        }
+      });
+}
+
+void StreamSession::reply_teleop(const Result<msgs::Twist>& result) {
+  if (!result.ok()) {
+    reply_error(result.error().code, result.error().message);
+    return;
+  }
+  const msgs::Twist& applied = result.value();
   reply({{"op", "teleop"}, {"v", applied.linear_mps}, {"w", applied.angular_radps}});
 }
 
@@ -404,6 +474,8 @@ void StreamSession::close_socket() {
     }
     socket_closed_ = true;
   }
+  // The liveness check holds the session: without it, the session is released.
+  timer_.cancel();
   boost::system::error_code ignored;
   socket_.shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
   socket_.close(ignored);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -9,9 +10,10 @@
 #include <vector>
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <nlohmann/json.hpp>
 
-#include "api/robot_port.h"
+#include "api/ports/ports.h"
 #include "api/stream_hub.h"
 #include "api/stream_topics.h"
 #include "api/websocket_frames.h"
@@ -22,10 +24,12 @@ namespace mobot::api {
 // Takes the hub's batches of frames on any io thread into small per-topic queues (dropping the
 // oldest), and sends everything pending as one gathered write: first straight away on a
 // non-blocking socket, by whichever thread has frames to send; only what the socket does not take
-// at once goes on as an asynchronous write, from the strand.
+// at once goes on as an asynchronous write, from the strand. A client that falls silent is pinged
+// every ping_interval_ms and, when nothing at all has come from it for idle_timeout_ms, closed
+// with 1001 and released.
 class StreamSession : public std::enable_shared_from_this<StreamSession> {
  public:
-  StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, RobotPort& port, Role role,
+  StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, const Ports& ports, Role role,
                 std::string already_received);
   ~StreamSession();
 
@@ -43,12 +47,18 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
     std::int64_t last_sent_wall_us = 0;
   };
 
+  using Clock = std::chrono::steady_clock;
+
   void read_more();
+  void watch_client();
+  void check_client();
+  Clock::time_point next_check() const;
   void handle_message(WsMessage message);
   void handle_op(const nlohmann::json& request);
   void subscribe(const nlohmann::json& request);
   void unsubscribe(const nlohmann::json& request);
   void teleop(const nlohmann::json& request);
+  void reply_teleop(const Result<msgs::Twist>& result);
   void reply(const nlohmann::json& message);
   void reply_error(const std::string& code, const std::string& message);
   void queue_control(std::shared_ptr<const std::string> frame);
@@ -64,11 +74,17 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
 
   boost::asio::ip::tcp::socket socket_;
   StreamHub& hub_;
-  RobotPort& port_;
+  Ports ports_;
   Role role_;
   WsFrameParser parser_;
   std::array<char, 8192> read_buffer_{};
   std::string already_received_;
+
+  // The client's liveness, on the strand: when it last sent anything, when it was last pinged.
+  boost::asio::steady_timer timer_;
+  Clock::time_point last_heard_;
+  Clock::time_point last_ping_;
+  bool idle_closed_ = false;  // closed for silence: released at the next check if still open
 
   std::mutex mutex_;  // guards the subscription and outgoing state below
   std::array<Subscription, kTopicCount> subscriptions_{};

@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "server/plugins/plugins.h"
+
 #include <cmath>
 #include <map>
 #include <set>
@@ -73,24 +75,6 @@ class Reader {
 
 void read_localization(const Reader& reader, LocalizationSection& localization) {
   reader.read("localization", "method", localization.method);
-  const YAML::Node fuse = reader.lookup("localization", "fuse");
-  if (!fuse) return;
-  if (!fuse.IsSequence()) {
-    throw ConfigError("localization.fuse: expected a list of compass, lines, bearing");
-  }
-  localization.fuse_compass = localization.fuse_lines = localization.fuse_bearing = false;
-  for (const auto& item : fuse) {
-    const auto name = item.as<std::string>();
-    if (name == "compass") {
-      localization.fuse_compass = true;
-    } else if (name == "lines") {
-      localization.fuse_lines = true;
-    } else if (name == "bearing") {
-      localization.fuse_bearing = true;
-    } else {
-      throw ConfigError("localization.fuse: '" + name + "' is not one of compass, lines, bearing");
-    }
-  }
 }
 
 void read_mux(const Reader& reader, RobotSection& robot) {
@@ -119,13 +103,13 @@ void reject_unknown_keys(const YAML::Node& root) {
   static const std::map<std::string, std::set<std::string>> kKnown{
       {"server", {"bind", "port", "data_dir", "web_dir"}},
       {"robot",
-       {"name", "kinematics", "control_rate_hz", "laser_rate_hz", "sonar_rate_hz",
+       {"name", "profile", "kinematics", "control_rate_hz", "realtime_priority", "laser_rate_hz", "sonar_rate_hz",
         "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms"}},
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2"}},
       {"sim", {"world", "worlds_dir", "seed", "time_scale"}},
       {"odometry", {"left_wheel_radius_m", "right_wheel_radius_m", "track_m"}},
-      {"localization", {"method", "fuse"}},
+      {"localization", {"method"}},
       {"navigation",
        {"goal_tolerance_m", "goal_tolerance_rad", "max_linear_mps", "inscribed_radius_m",
         "avoidance_distance_m"}},
@@ -133,7 +117,10 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"recorder", {"trajectory_rate_hz", "flush_period_ms"}},
       {"stream", {"max_frames_per_topic"}},
   };
-  static const std::set<std::string> kScalars{"backend", "run_name", "mux"};
+  // Plugin sections: each plugin checks its own keys (server/plugins).
+  static const std::set<std::string> kScalars{"backend",     "run_name",   "mux",
+                                              "planners",    "controllers", "estimators",
+                                              "kinematics"};
   for (const auto& entry : root) {
     const auto key = entry.first.as<std::string>();
     if (kScalars.contains(key)) continue;
@@ -163,6 +150,7 @@ Config load_config(const std::filesystem::path& file) {
 
   reject_unknown_keys(root);
   Config config;
+  config.document = root;
   const Reader reader(root);
   reader.read(nullptr, "backend", config.backend);
   reader.read(nullptr, "run_name", config.run_name);
@@ -180,8 +168,10 @@ Config load_config(const std::filesystem::path& file) {
 
   RobotSection& robot = config.robot;
   reader.read("robot", "name", robot.name);
+  reader.read("robot", "profile", robot.profile);
   reader.read("robot", "kinematics", robot.kinematics);
   reader.read_number("robot", "control_rate_hz", robot.control_rate_hz, 5.0, 200.0);
+  reader.read_int("robot", "realtime_priority", robot.realtime_priority, 0, 99);
   reader.read_number("robot", "laser_rate_hz", robot.laser_rate_hz, 1.0, 40.0);
   reader.read_number("robot", "sonar_rate_hz", robot.sonar_rate_hz, 1.0, 50.0);
   reader.read_number("robot", "compass_rate_hz", robot.compass_rate_hz, 1.0, 50.0);
@@ -235,17 +225,12 @@ void validate_config(const Config& config) {
   if (config.backend != "sim" && config.backend != "hardware") {
     throw ConfigError("backend: '" + config.backend + "' is not one of sim, hardware");
   }
-  if (config.robot.kinematics != "differential") {
-    throw ConfigError("robot.kinematics: '" + config.robot.kinematics +
-                      "' is not supported (differential)");
-  }
   check_range("sim.time_scale", config.sim.time_scale, 0.1, 100.0);
   check_range("robot.laser_rate_hz", config.robot.laser_rate_hz, 1.0,
               config.robot.control_rate_hz);
-  if (config.localization.method != "ekf" && config.localization.method != "odometry") {
-    throw ConfigError("localization.method: '" + config.localization.method +
-                      "' is not one of ekf, odometry");
-  }
+  // The names the config selects and every plugin's own section; the geometry only matters
+  // when instances are made.
+  configure_plugins(builtin_plugins(), config, kinematics::RobotGeometry{});
   check_range("navigation.max_linear_mps", config.navigation.max_linear_mps, 0.05,
               config.robot.limits.max_linear_mps);
   bool has_teleop = false;

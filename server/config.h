@@ -1,5 +1,7 @@
 #pragma once
 
+#include <yaml-cpp/yaml.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>
@@ -20,8 +22,14 @@ struct ServerSection {
 
 struct RobotSection {
   std::string name = "r1";
+  std::string profile = "r1";  // the robot the backend simulates or drives
   std::string kinematics = "differential";
+  // Sensors whose silence stops the robot; the others only show as not ok.
+  std::vector<std::string> required_sensors{"encoders", "laser"};
   double control_rate_hz = 50.0;
+  // SCHED_FIFO priority of the control loop's thread (1..99), 0 for none: ticks start on time
+  // however loaded the machine is, where the process may (root or CAP_SYS_NICE).
+  int realtime_priority = 10;
   double laser_rate_hz = 10.0;
   double sonar_rate_hz = 10.0;
   double compass_rate_hz = 10.0;
@@ -48,11 +56,9 @@ struct OdometrySection {
 };
 
 struct LocalizationSection {
-  std::string method = "ekf";  // ekf | odometry
-  // The EKF measurement sets of ALGORITHMS.md E2; each can be switched off to see its effect.
-  bool fuse_compass = true;
-  bool fuse_lines = true;
-  bool fuse_bearing = true;
+  // The estimator the robot starts with, by its registered name; its options are in its own
+  // section, estimators.NAME.
+  std::string method = "ekf";
 };
 
 struct NavigationSection {
@@ -96,6 +102,8 @@ struct Config {
   SweepsSection sweeps;
   RecorderSection recorder;
   StreamSection stream;
+  // The whole config file, for the plugins to read their own sections from (null: defaults).
+  YAML::Node document;
 };
 
 // A config file or flag that is wrong; the message names the key and what it accepts.

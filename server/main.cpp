@@ -1,4 +1,4 @@
-// mobotd: the mobot robot server. See README.md and CONTRACT.md for the flags and the API.
+// mobotd: the mobot robot server. See README.md and docs/api.md for the flags and the API.
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "drivers/sim/world.h"
+#include "drivers/backend_factory.h"
 #include "server/app.h"
 #include "server/config.h"
 
@@ -78,8 +78,8 @@ int main(int argc, char** argv) {
   } catch (const mobot::server::ConfigError& error) {
     spdlog::error("config: {}", error.what());
     return 2;
-  } catch (const mobot::sim::WorldError& error) {
-    spdlog::error("world: {}", error.what());
+  } catch (const mobot::drivers::BackendError& error) {
+    spdlog::error("{}", error.what());
     return 2;
   } catch (const std::exception& error) {
     spdlog::error("mobotd cannot start: {}", error.what());

@@ -3,35 +3,25 @@
 #include <boost/asio/post.hpp>
 #include <stdexcept>
 
-#include "core/planning/global_planner_factory.h"
+#include <spdlog/spdlog.h>
+
 
 namespace mobot::server {
 
-namespace {
-
-planning::GlobalPlannerOptions planner_options(const planning::PlanningGridOptions& grid) {
-  planning::GlobalPlannerOptions options;
-  // The roadmap keeps the middles of passages the robot fits through: at least its turning
-  // diameter wide.
-  options.voronoi.roadmap.min_passage_width_m = 2.0 * grid.inscribed_radius_m;
-  return options;
-}
-
-}  // namespace
-
-PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options)
-    : builder_(grid_options), planner_options_(planner_options(grid_options)) {}
+PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options,
+                               const PluginSet<planning::GlobalPlanner>& planners)
+    : builder_(grid_options), plugins_(planners) {}
 
 PlanningWorker::~PlanningWorker() { pool_.join(); }
 
-std::uint64_t PlanningWorker::set_map(const mapping::OccupancyGrid& map) {
+void PlanningWorker::set_map(const mapping::OccupancyGrid& map, std::uint64_t generation) {
   auto copy = std::make_shared<const mapping::OccupancyGrid>(map);
   auto grid = std::make_shared<const planning::PlanningGrid>(builder_.build(*copy));
   std::lock_guard lock(mutex_);
   map_ = std::move(copy);
   layer_.reset();
   static_grid_ = std::move(grid);
-  return ++generation_;
+  generation_ = generation;
 }
 
 bool PlanningWorker::set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
@@ -56,21 +46,38 @@ std::shared_ptr<const planning::PlanningGrid> PlanningWorker::static_grid() cons
   return static_grid_;
 }
 
+void PlanningWorker::plan(const geometry::Pose2D& start, const geometry::Pose2D& goal,
+                          const std::string& planner,
+                          std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map,
+                          Done done) {
+  boost::asio::post(pool_, [this, start, goal, planner, extra = std::move(extra_obstacles_in_map),
+                            done = std::move(done)] {
+    Outcome outcome;
+    try {
+      outcome = plan_now(start, goal, planner, extra ? *extra : std::vector<geometry::Point2D>{});
+    } catch (const std::exception& error) {
+      // A planner that throws (a name nobody checked, an allocation) must not take the worker
+      // thread down: the goal fails to plan.
+      spdlog::error("planning with '{}' failed: {}", planner, error.what());
+      outcome = {planning::PlanError::kNoPath, {}};
+    }
+    done(std::move(outcome));
+  });
+}
+
 std::future<PlanningWorker::Outcome> PlanningWorker::plan(
     const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
-    std::vector<geometry::Point2D> extra_obstacles_in_map) {
-  auto task = std::make_shared<std::packaged_task<Outcome()>>(
-      [this, start, goal, planner, extra = std::move(extra_obstacles_in_map)] {
-        return plan_now(start, goal, planner, extra);
-      });
-  std::future<Outcome> result = task->get_future();
-  boost::asio::post(pool_, [task] { (*task)(); });
+    std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map) {
+  auto promise = std::make_shared<std::promise<Outcome>>();
+  std::future<Outcome> result = promise->get_future();
+  plan(start, goal, planner, std::move(extra_obstacles_in_map),
+       [promise](Outcome outcome) { promise->set_value(std::move(outcome)); });
   return result;
 }
 
 planning::GlobalPlanner& PlanningWorker::planner_named(const std::string& name) {
   auto& planner = planners_[name];
-  if (!planner) planner = planning::make_global_planner(name, planner_options_);
+  if (!planner) planner = plugins_.make(name);
   if (!planner) throw std::invalid_argument("unknown planner '" + name + "'");
   return *planner;
 }

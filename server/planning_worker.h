@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
@@ -14,11 +15,11 @@
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/planning/global_planner.h"
-#include "core/planning/global_planner_factory.h"
 #include "core/planning/path.h"
 #include "core/planning/path_smoother.h"
 #include "core/planning/planning_grid.h"
 #include "core/planning/planning_grid_builder.h"
+#include "server/plugins/registry.h"
 
 namespace mobot::server {
 
@@ -33,14 +34,18 @@ class PlanningWorker {
     planning::Path path;  // smoothed, map frame
   };
 
-  explicit PlanningWorker(planning::PlanningGridOptions grid_options);
+  using Done = std::function<void(Outcome)>;
+
+  // `planners` must outlive the worker; each planner is made on first use, on the worker thread.
+  PlanningWorker(planning::PlanningGridOptions grid_options,
+                 const PluginSet<planning::GlobalPlanner>& planners);
   ~PlanningWorker();
   PlanningWorker(const PlanningWorker&) = delete;
   PlanningWorker& operator=(const PlanningWorker&) = delete;
 
   // Inflates `map` (on the caller's thread) and plans on it from now on, without a 3D layer.
-  // Returns the map's generation, which set_obstacle_layer must name.
-  std::uint64_t set_map(const mapping::OccupancyGrid& map);
+  // `generation` names the activation, which set_obstacle_layer must name.
+  void set_map(const mapping::OccupancyGrid& map, std::uint64_t generation);
   // Merges the 3D-obstacle layer (occupied cells block) into the static grid, rebuilt on the
   // caller's thread. Ignored (false) when the map changed since `map_generation`.
   bool set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
@@ -48,9 +53,14 @@ class PlanningWorker {
   // The inflated active map, or null before set_map.
   std::shared_ptr<const planning::PlanningGrid> static_grid() const;
 
+  // Plans on the worker thread and calls `done` there with the outcome. `planner` must be a name
+  // the plugin set knows (the caller checks).
+  void plan(const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
+            std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map, Done done);
+  // The same, for a caller that polls.
   std::future<Outcome> plan(const geometry::Pose2D& start, const geometry::Pose2D& goal,
                             const std::string& planner,
-                            std::vector<geometry::Point2D> extra_obstacles_in_map);
+                            std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map);
 
  private:
   Outcome plan_now(const geometry::Pose2D& start, const geometry::Pose2D& goal,
@@ -60,7 +70,7 @@ class PlanningWorker {
 
   const planning::PlanningGridBuilder builder_;
   const planning::PathSmoother smoother_;
-  const planning::GlobalPlannerOptions planner_options_;
+  const PluginSet<planning::GlobalPlanner>& plugins_;
 
   mutable std::mutex mutex_;  // guards map_, layer_, generation_ and static_grid_
   std::shared_ptr<const mapping::OccupancyGrid> map_;

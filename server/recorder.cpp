@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "api/prometheus_text.h"
@@ -38,10 +39,23 @@ void Recorder::set_distance(double distance_m) {
 void Recorder::flush() {
   std::unique_lock lock(mutex_);
   if (stopping_ && !writer_.joinable()) return;
-  const std::uint64_t target = generation_ + 1;
+  const std::uint64_t target = generation_ + (writing_ ? 2 : 1);
   flush_requested_ = true;
   wake_.notify_all();
   flushed_.wait(lock, [&] { return generation_ >= target || !writer_.joinable(); });
+}
+
+void Recorder::flush_async(std::function<void()> done) {
+  {
+    std::lock_guard lock(mutex_);
+    if (!stopping_) {
+      waiters_.push_back({generation_ + (writing_ ? 2 : 1), std::move(done)});
+      flush_requested_ = true;
+      wake_.notify_all();
+      return;
+    }
+  }
+  done();
 }
 
 void Recorder::stop(double ended_unix_s) {
@@ -80,6 +94,7 @@ void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
   events.swap(events_);
   const double distance_m = distance_m_;
   flush_requested_ = false;
+  writing_ = true;
   lock.unlock();
   bool ok = true;
   if (!samples.empty() || !events.empty()) {
@@ -92,6 +107,7 @@ void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
     }
   }
   lock.lock();
+  writing_ = false;
   if (ok) {
     batches_written_ += samples.empty() && events.empty() ? 0 : 1;
     samples_written_ += samples.size();
@@ -105,6 +121,16 @@ void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
   }
   ++generation_;
   flushed_.notify_all();
+  std::vector<Waiter> ready;
+  const auto first_waiting = std::stable_partition(waiters_.begin(), waiters_.end(), [&](const Waiter& w) {
+    return w.generation <= generation_;
+  });
+  ready.assign(std::make_move_iterator(waiters_.begin()), std::make_move_iterator(first_waiting));
+  waiters_.erase(waiters_.begin(), first_waiting);
+  if (ready.empty()) return;
+  lock.unlock();
+  for (auto& waiter : ready) waiter.done();
+  lock.lock();
 }
 
 std::string Recorder::metrics_text() const {

@@ -2,6 +2,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -26,6 +27,9 @@ class Recorder {
   void set_distance(double distance_m);
   // Commits everything buffered now and returns once it is on disk.
   void flush();
+  // Commits everything buffered now and calls `done` on the writer thread once it is on disk (at
+  // once, on the caller's thread, when the recorder has stopped). Never blocks.
+  void flush_async(std::function<void()> done);
   void stop(double ended_unix_s);
 
   std::int64_t run_id() const { return run_id_; }
@@ -47,10 +51,17 @@ class Recorder {
   double distance_m_ = 0.0;
   bool stopping_ = false;
   bool flush_requested_ = false;
+  // A batch is being written with the lock released: what is buffered now goes in the next one.
+  bool writing_ = false;
   std::uint64_t batches_written_ = 0;
   std::uint64_t samples_written_ = 0;
   std::uint64_t write_failures_ = 0;
   std::uint64_t generation_ = 0;  // counts completed writes, for flush()
+  struct Waiter {
+    std::uint64_t generation;
+    std::function<void()> done;
+  };
+  std::vector<Waiter> waiters_;  // flush_async() callers, oldest first
   std::thread writer_;
 };
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <spdlog/spdlog.h>
 
-#include "api/api_error.h"
+#include <algorithm>
 #include "core/perception/ipabd.h"
 #include "core/perception/tilt_sweep.h"
 
@@ -33,79 +33,102 @@ api::SweepInfo to_info(const db::SweepRecord& record) {
 
 }  // namespace
 
-Sweeps::Sweeps(const Config& config, db::SweepStore& store, Robot& robot, Recorder& recorder,
-               api::StreamHub& hub)
-    : options_(config.sweeps),
-      robot_height_m_(sim::r1_profile().height_m),
-      robot_width_m_(sim::r1_profile().footprint_width_m),
-      store_(store),
+Sweeps::Sweeps(const SweepsSection& options, SweepRobot robot, db::SweepStore& store,
+               std::int64_t run_id, Runtime& runtime, Bus& bus, SweepLayer& layer,
+               PlanningWorker& planning)
+    : options_(options),
       robot_(robot),
-      recorder_(recorder),
-      hub_(hub) {
+      store_(store),
+      run_id_(run_id),
+      runtime_(runtime),
+      bus_(bus),
+      layer_(layer),
+      planning_(planning) {
   if (const int interrupted = store_.fail_interrupted("interrupted"); interrupted > 0) {
     spdlog::warn("{} 3D sweep(s) of an earlier process never finished: marked failed",
                  interrupted);
   }
-  robot_.set_sweep_listener([this](SweepOutcome outcome) {
-    // On the control loop under the Robot's mutex: only hand it on.
-    auto shared = std::make_shared<const SweepOutcome>(std::move(outcome));
-    boost::asio::post(pool_, [this, shared] { finish(*shared); });
-  });
 }
 
 Sweeps::~Sweeps() { pool_.join(); }
 
-api::SweepInfo Sweeps::start(const api::SweepRequest& request) {
+void Sweeps::on_outcome(SweepOutcome outcome) {
+  auto shared = std::make_shared<const SweepOutcome>(std::move(outcome));
+  boost::asio::post(pool_, [this, shared] { finish(*shared); });
+}
+
+void Sweeps::start_sweep(const api::SweepRequest& request, api::Completion<api::SweepInfo> done) {
   const auto mode = perception::find_sweep_mode(request.period_s, request.step_deg);
   if (!mode) {
-    throw api::ApiError(400, "invalid_mode",
-                        "period_s must be 10 or 42 and step_deg 1, 0.5 or 0.25 (Table 2.1)");
+    return done(api::DomainError{
+        api::ErrorKind::kInvalid, "invalid_mode",
+        "period_s must be 10 or 42 and step_deg 1, 0.5 or 0.25 (the tilt unit's modes)"});
+  }
+  if (!stage_) {
+    return done(api::DomainError{api::ErrorKind::kConflict, "no_tilt_laser",
+                                 "this robot has no tilting laser"});
   }
   std::lock_guard lock(mutex_);
   if (running_) {
-    throw api::ApiError(409, "sweep_running",
-                        "3D sweep " + std::to_string(*running_) + " is running: wait until it is done");
+    return done(api::DomainError{api::ErrorKind::kConflict, "sweep_running",
+                                 "3D sweep " + std::to_string(*running_) +
+                                     " is running: wait until it is done"});
   }
-  const double now_s = robot_.time_s();
+  const double now_s = runtime_.state()->robot.t_s;
   const std::int64_t id = store_.insert_running(mode->period_s, mode->step_deg, mode->scans, now_s,
-                                                unix_now_s(), recorder_.run_id());
-  try {
-    robot_.start_sweep(id, *mode);
-  } catch (...) {
-    store_.fail(id, now_s, "not_started");
-    throw;
-  }
+                                                unix_now_s(), run_id_);
   running_ = id;
-  record(now_s, id, "running",
-         {{"period_s", mode->period_s}, {"step_deg", mode->step_deg}, {"scans", mode->scans}});
-  return with_progress(*store_.get(id));
+  runtime_.post([this, id, mode = *mode, done = std::move(done)](TickContext& context) mutable {
+    if (!stage_->start(id, mode, context)) {
+      store_.fail(id, context.now_s, "not_started");
+      {
+        std::lock_guard running_lock(mutex_);
+        if (running_ == id) running_.reset();
+      }
+      return done(api::DomainError{api::ErrorKind::kConflict, "sweep_running",
+                                   "a 3D sweep is running: wait until it is done"});
+    }
+    record(context.now_s, id, "running",
+           {{"period_s", mode.period_s}, {"step_deg", mode.step_deg}, {"scans", mode.scans}});
+    context.then([this, id, done = std::move(done)]() mutable {
+      done(with_progress(*store_.get(id)));
+    });
+  });
+}
+
+template <class Write>
+void Sweeps::conclude(std::int64_t id, Write write) {
+  // The stored status and running_ change together: a client that reads "done" may start the
+  // next sweep at once.
+  std::lock_guard lock(mutex_);
+  write();
+  if (running_ == id) running_.reset();
 }
 
 void Sweeps::finish(const SweepOutcome& outcome) {
   try {
     if (outcome.failure) {
-      store_.fail(outcome.id, outcome.ended_s, *outcome.failure);
+      conclude(outcome.id, [&] { store_.fail(outcome.id, outcome.ended_s, *outcome.failure); });
       record(outcome.ended_s, outcome.id, "failed", {{"reason", *outcome.failure}});
     } else {
       const auto sweep = store_.get(outcome.id);
       perception::IpabdOptions ipabd;
-      ipabd.robot_height_m = robot_height_m_;
+      ipabd.robot_height_m = robot_.height_m;
       ipabd.floor_tolerance_m = options_.floor_tolerance_m;
       ipabd.max_range_m = options_.max_range_m;
       ipabd.pdbs_c0_m = options_.pdbs_c0_m;
       ipabd.pdbs_c1 = options_.pdbs_c1;
-      ipabd.robot_diameter_m = robot_width_m_;
-      ipabd.dilation_radius_m = robot_width_m_ / 2.0;
+      ipabd.robot_diameter_m = robot_.width_m;
+      ipabd.dilation_radius_m = robot_.width_m / 2.0;
       // Step 2 keeps one point per beam of the laser.
       ipabd.bearing_step_rad = (sweep ? sweep->step_deg : 1.0) * std::numbers::pi / 180.0;
-      ipabd.lattice_origin = robot_.obstacle_lattice();
+      ipabd.lattice_origin = layer_.lattice_origin();
       const perception::IpabdResult result =
           perception::run_ipabd(outcome.cloud, outcome.origin_in_map, ipabd);
       std::optional<int> layer_cells;
-      if (options_.obstacle_layer) {
-        layer_cells = robot_.apply_3d_obstacles(result.obstacles, outcome.map_generation);
-      }
-      store_.finish(outcome.id, outcome.ended_s, outcome.cloud, result.dilated);
+      if (options_.obstacle_layer) layer_cells = merge_layer(result.obstacles, outcome.map_generation);
+      conclude(outcome.id,
+               [&] { store_.finish(outcome.id, outcome.ended_s, outcome.cloud, result.dilated); });
       nlohmann::json detail{{"points", outcome.cloud.size()},
                             {"ipabd_bins", result.bins.size()},
                             {"ipabd_segments", result.segments.size()}};
@@ -115,7 +138,9 @@ void Sweeps::finish(const SweepOutcome& outcome) {
   } catch (const std::exception& error) {
     spdlog::error("3D sweep {}: {}", outcome.id, error.what());
     try {
-      store_.fail(outcome.id, outcome.ended_s, std::string("processing_failed: ") + error.what());
+      conclude(outcome.id, [&] {
+        store_.fail(outcome.id, outcome.ended_s, std::string("processing_failed: ") + error.what());
+      });
     } catch (const std::exception& db_error) {
       spdlog::error("3D sweep {}: cannot mark it failed: {}", outcome.id, db_error.what());
     }
@@ -124,18 +149,27 @@ void Sweeps::finish(const SweepOutcome& outcome) {
   if (running_ == outcome.id) running_.reset();
 }
 
+std::optional<int> Sweeps::merge_layer(const mapping::OccupancyGrid& observed,
+                                       std::uint64_t map_generation) {
+  const auto layer = layer_.merge(observed, map_generation);
+  // Re-inflating the map with the layer takes a while: here, off the control loop.
+  if (!layer || !planning_.set_obstacle_layer(*layer, map_generation)) return std::nullopt;
+  return static_cast<int>(std::count((*layer)->cells().begin(), (*layer)->cells().end(),
+                                     mapping::OccupancyGrid::kOccupied));
+}
+
 void Sweeps::record(double t_s, std::int64_t id, const std::string& status,
                     nlohmann::json detail) {
   detail["id"] = id;
   detail["status"] = status;
-  recorder_.record_event(t_s, "sweep", detail.dump());
-  hub_.publish_event(t_s, "sweep", detail);
+  bus_.events.publish({t_s, "sweep", std::move(detail)});
+  bus_.flush.publish({t_s});
 }
 
 api::SweepInfo Sweeps::with_progress(const db::SweepRecord& record) const {
   api::SweepInfo info = to_info(record);
   if (record.status != "running") return info;
-  const auto progress = robot_.sweep_progress();
+  const auto progress = runtime_.state()->sweep;
   if (progress && progress->id == record.id) {
     info.scans_done = progress->scans_done;
     info.points = static_cast<std::int64_t>(progress->points);
@@ -145,13 +179,13 @@ api::SweepInfo Sweeps::with_progress(const db::SweepRecord& record) const {
   return info;
 }
 
-std::vector<api::SweepInfo> Sweeps::list() const {
+std::vector<api::SweepInfo> Sweeps::list_sweeps() const {
   std::vector<api::SweepInfo> out;
   for (const auto& record : store_.list()) out.push_back(with_progress(record));
   return out;
 }
 
-std::optional<api::SweepInfo> Sweeps::find(std::int64_t id) const {
+std::optional<api::SweepInfo> Sweeps::find_sweep(std::int64_t id) const {
   const auto record = store_.get(id);
   if (!record) return std::nullopt;
   return with_progress(*record);
@@ -159,33 +193,33 @@ std::optional<api::SweepInfo> Sweeps::find(std::int64_t id) const {
 
 void Sweeps::require_done(std::int64_t id) const {
   const auto record = store_.get(id);
-  if (!record) throw api::ApiError(404, "unknown_sweep", "no 3D sweep " + std::to_string(id));
+  if (!record) throw api::DomainException(api::ErrorKind::kNotFound, "unknown_sweep", "no 3D sweep " + std::to_string(id));
   if (record->status != "done") {
-    throw api::ApiError(409, "sweep_not_done",
+    throw api::DomainException(api::ErrorKind::kConflict, "sweep_not_done",
                         "3D sweep " + std::to_string(id) + " is " + record->status +
                             (record->reason.empty() ? "" : " (" + record->reason + ")") +
                             ": it has no cloud");
   }
 }
 
-perception::PointCloud Sweeps::cloud(std::int64_t id) const {
+perception::PointCloud Sweeps::sweep_cloud(std::int64_t id) const {
   require_done(id);
   return store_.cloud(id).value_or(perception::PointCloud{});
 }
 
-mapping::OccupancyGrid Sweeps::obstacle_map(std::int64_t id) const {
+mapping::OccupancyGrid Sweeps::sweep_obstacle_map(std::int64_t id) const {
   require_done(id);
   return store_.obstacle_map(id).value_or(mapping::OccupancyGrid{});
 }
 
-void Sweeps::remove(std::int64_t id) {
+void Sweeps::delete_sweep(std::int64_t id) {
   switch (store_.remove(id)) {
     case db::SweepStore::RemoveResult::kRemoved:
       return;
     case db::SweepStore::RemoveResult::kNotFound:
-      throw api::ApiError(404, "unknown_sweep", "no 3D sweep " + std::to_string(id));
+      throw api::DomainException(api::ErrorKind::kNotFound, "unknown_sweep", "no 3D sweep " + std::to_string(id));
     case db::SweepStore::RemoveResult::kRunning:
-      throw api::ApiError(409, "sweep_running",
+      throw api::DomainException(api::ErrorKind::kConflict, "sweep_running",
                           "3D sweep " + std::to_string(id) + " is running: wait until it is done");
   }
 }
@@ -195,7 +229,7 @@ void Sweeps::stop() {
   std::lock_guard lock(mutex_);
   if (!running_) return;
   try {
-    store_.fail(*running_, robot_.time_s(), "server_stopped");
+    store_.fail(*running_, runtime_.state()->robot.t_s, "server_stopped");
   } catch (const std::exception& error) {
     spdlog::error("3D sweep {}: cannot mark it failed: {}", *running_, error.what());
   }

@@ -22,10 +22,11 @@ std::optional<std::int64_t> GoalNavigator::active_id() const {
   return goals_.back().id;
 }
 
-const Goal& GoalNavigator::start(Goal goal, const planning::Path& path, double now_s) {
+const Goal& GoalNavigator::start(Goal goal, const planning::Path& path,
+                                 std::unique_ptr<control::PathTracker> tracker, double now_s) {
+  if (!tracker) throw std::invalid_argument("no tracker for controller '" + goal.controller + "'");
   end_active(GoalStatus::kCanceled, "preempted", now_s);
-  tracker_ = control::make_path_tracker(goal.controller, options_.tracker);
-  if (!tracker_) throw std::invalid_argument("unknown controller '" + goal.controller + "'");
+  tracker_ = std::move(tracker);
   goal.status = GoalStatus::kActive;
   goal.created_s = now_s;
   goals_.push_back(std::move(goal));

@@ -11,7 +11,6 @@
 
 #include "core/control/navigation_supervisor.h"
 #include "core/control/path_tracker.h"
-#include "core/control/path_tracker_factory.h"
 #include "core/control/potential_field_avoider.h"
 #include "core/msgs/sonar_ring.h"
 #include "core/msgs/twist.h"
@@ -21,7 +20,6 @@
 namespace mobot::navigation {
 
 struct GoalNavigatorOptions {
-  control::PathTrackerOptions tracker;
   control::NavigationSupervisorOptions supervisor;
   control::PotentialFieldOptions avoidance;
   // Finished goals kept for GET /goals.
@@ -50,9 +48,11 @@ class GoalNavigator {
 
   explicit GoalNavigator(GoalNavigatorOptions options);
 
-  // Starts a goal whose path is planned; an active goal is canceled ("preempted"). The goal's
-  // controller must be one make_path_tracker knows (the caller validates it).
-  const Goal& start(Goal goal, const planning::Path& path, double now_s);
+  // Starts a goal whose path is planned, followed by `tracker` (the goal's controller); an active
+  // goal is canceled ("preempted"). A null tracker throws std::invalid_argument and changes
+  // nothing: the active goal runs on.
+  const Goal& start(Goal goal, const planning::Path& path,
+                    std::unique_ptr<control::PathTracker> tracker, double now_s);
   // Ends the active goal, if any, with a final status and reason.
   void end_active(GoalStatus status, const std::string& reason, double now_s);
   // Cancels goal `id`: false when it is unknown; a finished goal is left as it is.

@@ -9,7 +9,7 @@
 #include "core/mapping/occupancy_grid.h"
 #include "core/perception/line_extractor.h"
 #include "core/perception/map_line_extractor.h"
-#include "tests/unit/core/estimation_sim/synthetic_world.h"
+#include "tests/unit/core/estimation/synthetic_world.h"
 
 namespace {
 

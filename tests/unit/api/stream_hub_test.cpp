@@ -1,6 +1,8 @@
 // StreamHub + StreamSession over real loopback sockets: a batch of one flush reaches every client
 // in order, flushes during a running write pass are neither reordered nor lost at the newest frame,
 // a client that stops reading is bounded and holds nobody back, and closed sessions leave the hub.
+// Teleop replies come from the port's Completion on any thread; silent clients are pinged, then
+// closed for idleness; a map is encoded outside the hub's lock.
 #include <gtest/gtest.h>
 #include <sys/socket.h>
 
@@ -10,6 +12,7 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <memory>
@@ -18,69 +21,17 @@
 #include <thread>
 #include <vector>
 
-#include "api/api_error.h"
-#include "api/robot_port.h"
+#include "api/frame_codec.h"
 #include "api/stream_hub.h"
 #include "api/stream_session.h"
+#include "api/websocket_frames.h"
+#include "fake_ports.h"
 
 namespace mobot::api {
 namespace {
 
 using boost::asio::ip::tcp;
 using namespace std::chrono_literals;
-
-// The stream only asks the port whether the robot is simulated, for snapshots and for teleop.
-class FakePort : public RobotPort {
- public:
-  std::optional<Role> authenticate(std::string_view) override { return Role::kViewer; }
-  std::string backend_name() const override { return "fake"; }
-  double uptime_s() const override { return 0.0; }
-  RobotSnapshot snapshot() const override { return {}; }
-  msgs::Twist teleop(const msgs::Twist& command, int) override { return command; }
-  bool set_estop(bool engaged) override { return engaged; }
-  navigation::Goal submit_goal(const GoalRequest&) override { throw unsupported(); }
-  std::vector<navigation::Goal> list_goals() const override { return {}; }
-  std::optional<navigation::Goal> find_goal(std::int64_t) const override { return std::nullopt; }
-  navigation::Goal cancel_goal(std::int64_t) override { throw unsupported(); }
-  void set_localization_pose(const geometry::Pose2D&, const std::array<double, 9>&) override {}
-  std::vector<MapInfo> list_maps() const override { return {}; }
-  std::optional<MapInfo> map_info(std::int64_t) const override { return std::nullopt; }
-  std::optional<mapping::OccupancyGrid> map_grid(std::int64_t) const override {
-    return std::nullopt;
-  }
-  std::int64_t import_map(const std::string&, const mapping::OccupancyGrid&) override { return 0; }
-  void activate_map(std::int64_t) override {}
-  void delete_map(std::int64_t) override {}
-  std::vector<RunInfo> list_runs() const override { return {}; }
-  std::optional<std::vector<TrajectoryPoint>> run_trajectory(std::int64_t) const override {
-    return std::nullopt;
-  }
-  std::optional<std::vector<RunEvent>> run_events(std::int64_t) const override {
-    return std::nullopt;
-  }
-  std::pair<std::int64_t, std::string> create_token(Role, const std::string&) override {
-    return {0, ""};
-  }
-  std::vector<TokenInfo> list_tokens() const override { return {}; }
-  bool revoke_token(std::int64_t) override { return false; }
-  SweepInfo start_sweep(const SweepRequest&) override { throw unsupported(); }
-  std::vector<SweepInfo> list_sweeps() const override { return {}; }
-  std::optional<SweepInfo> find_sweep(std::int64_t) const override { return std::nullopt; }
-  perception::PointCloud sweep_cloud(std::int64_t) const override { throw unsupported(); }
-  mapping::OccupancyGrid sweep_obstacle_map(std::int64_t) const override { throw unsupported(); }
-  void delete_sweep(std::int64_t) override { throw unsupported(); }
-  bool is_simulated() const override { return true; }
-  std::vector<WorldInfo> list_worlds() const override { return {}; }
-  SimTruth sim_truth() const override { return {}; }
-  void sim_reset(const SimResetRequest&) override {}
-  void set_time_scale(double) override {}
-  int add_sim_obstacle(double, double, double, double) override { return 0; }
-  bool remove_sim_obstacle(int) override { return false; }
-  std::string metrics_text() const override { return ""; }
-
- private:
-  static ApiError unsupported() { return ApiError(400, "unsupported", "not in this fake"); }
-};
 
 struct Frame {
   unsigned opcode = 0;
@@ -101,12 +52,16 @@ class Client {
     ::setsockopt(socket_.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   }
 
-  void send_text(const std::string& text, bool masked = true) {
+  void send_text(const std::string& text, bool masked = true) { send(0x1, text, masked); }
+  void send_pong(const std::string& payload) { send(0xA, payload, true); }
+
+  // One short frame (below 126 bytes) with FIN set.
+  void send(unsigned opcode, const std::string& payload, bool masked) {
     std::string frame;
-    frame.push_back(static_cast<char>(0x81));
-    frame.push_back(static_cast<char>((masked ? 0x80 : 0x00) | text.size()));
+    frame.push_back(static_cast<char>(0x80U | opcode));
+    frame.push_back(static_cast<char>((masked ? 0x80U : 0x00U) | payload.size()));
     if (masked) frame.append(4, '\0');  // a zero mask leaves the payload as it is
-    frame += text;
+    frame += payload;
     boost::asio::write(socket_, boost::asio::buffer(frame));
   }
 
@@ -159,8 +114,9 @@ std::uint64_t metric(const StreamHub& hub, const std::string& name) {
 
 class StreamHubTest : public ::testing::Test {
  protected:
-  StreamHubTest()
-      : hub_(StreamOptions{}),
+  StreamHubTest() : StreamHubTest(StreamOptions{}) {}
+  explicit StreamHubTest(const StreamOptions& options)
+      : hub_(options),
         work_(boost::asio::make_work_guard(io_)),
         acceptor_(io_, tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), 0)) {
     hub_.set_executor(io_.get_executor(), 2);
@@ -184,17 +140,34 @@ class StreamHubTest : public ::testing::Test {
     for (auto& thread : threads_) thread.join();
   }
 
-  // A client whose server side is a started session, subscribed to `topics` in binary.
-  std::unique_ptr<Client> connect(const std::string& topics, int receive_buffer = 0) {
+  // A client whose server side is a started session that has said hello.
+  std::unique_ptr<Client> open(Role role = Role::kViewer, int receive_buffer = 0) {
     auto client = std::make_unique<Client>(client_io_, acceptor_.local_endpoint(), receive_buffer);
     tcp::socket server_side(boost::asio::make_strand(io_));
     acceptor_.accept(server_side);
-    std::make_shared<StreamSession>(std::move(server_side), hub_, port_, Role::kViewer, "")
+    std::make_shared<StreamSession>(std::move(server_side), hub_, robot_.ports(simulated_), role,
+                                    "")
         ->start();
     EXPECT_TRUE(client->read_until(R"("op":"hello")"));
+    return client;
+  }
+
+  // An open client subscribed to `topics` in binary.
+  std::unique_ptr<Client> connect(const std::string& topics, int receive_buffer = 0) {
+    auto client = open(Role::kViewer, receive_buffer);
     client->send_text(R"({"op":"subscribe","topics":[)" + topics + "]}");
     EXPECT_TRUE(client->read_until(R"("op":"subscribed")"));
     return client;
+  }
+
+  // Waits up to 5 s for the hub to have `clients` sessions.
+  bool wait_for_clients(std::uint64_t clients) {
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (metric(hub_, "mobot_stream_clients") != clients) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(5ms);
+    }
+    return true;
   }
 
   void publish_pose(double t_s) {
@@ -213,7 +186,8 @@ class StreamHubTest : public ::testing::Test {
     return seqs;
   }
 
-  FakePort port_;
+  test::FakePorts robot_;
+  bool simulated_ = true;  // whether the sessions opened next get the simulator's port
   StreamHub hub_;
   boost::asio::io_context io_;
   boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_;
@@ -306,6 +280,192 @@ TEST_F(StreamHubTest, CloseAllSendsGoingAwayAfterQueuedFrames) {
   EXPECT_EQ((static_cast<unsigned char>(frames.back().payload[0]) << 8) |
                 static_cast<unsigned char>(frames.back().payload[1]),
             1001);
+}
+
+TEST_F(StreamHubTest, TeleopRepliesFromACompletionOnAnotherThread) {
+  robot_.answers.defer = true;
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.5,"w":0.25})");
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (robot_.answers.pending() == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(1ms);
+  }
+  std::thread control_loop([this] { EXPECT_EQ(robot_.answers.run_pending(), 1U); });
+  control_loop.join();
+  std::optional<Frame> reply;
+  while ((reply = client->read()) && reply->payload.find(R"("op":"teleop")") == std::string::npos) {
+  }
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_NE(reply->payload.find(R"("v":0.5)"), std::string::npos) << reply->payload;
+  EXPECT_NE(reply->payload.find(R"("w":0.25)"), std::string::npos) << reply->payload;
+}
+
+TEST_F(StreamHubTest, ARefusedTeleopRepliesWithTheDomainError) {
+  robot_.answers.refusal = DomainError{ErrorKind::kConflict, "estop_engaged", "the e-stop is on"};
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.5,"w":0.0})");
+  std::optional<Frame> reply;
+  while ((reply = client->read()) && reply->payload.find(R"("op":"error")") == std::string::npos) {
+  }
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_NE(reply->payload.find(R"("code":"estop_engaged")"), std::string::npos) << reply->payload;
+  EXPECT_NE(reply->payload.find(R"("message":"the e-stop is on")"), std::string::npos)
+      << reply->payload;
+}
+
+TEST_F(StreamHubTest, ATeleopCompletedAfterTheClientLeftIsHarmless) {
+  robot_.answers.defer = true;
+  {
+    auto client = open(Role::kOperator);
+    client->send_text(R"({"op":"teleop","v":0.5,"w":0.0})");
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (robot_.answers.pending() == 0 && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(1ms);
+    }
+  }
+  ASSERT_TRUE(wait_for_clients(0)) << "a pending teleop must not keep its session";
+  EXPECT_EQ(robot_.answers.run_pending(), 1U);
+}
+
+TEST_F(StreamHubTest, PingAnswersWithTheRobotClock) {
+  auto client = open();
+  client->send_text(R"({"op":"ping","id":4})");
+  std::optional<Frame> pong;
+  while ((pong = client->read()) && pong->payload.find(R"("op":"pong")") == std::string::npos) {
+  }
+  ASSERT_TRUE(pong.has_value());
+  EXPECT_NE(pong->payload.find(R"("t":12.5)"), std::string::npos) << pong->payload;
+  EXPECT_NE(pong->payload.find(R"("id":4)"), std::string::npos) << pong->payload;
+}
+
+TEST_F(StreamHubTest, SimOnlyTopicsAreUnknownWithoutTheSimulator) {
+  simulated_ = false;
+  auto client = open();
+  client->send_text(R"({"op":"subscribe","topics":["truth"]})");
+  EXPECT_TRUE(client->read_until(R"("code":"unknown_topic")"));
+}
+
+TEST_F(StreamHubTest, AMapSubscriberGetsTheLatestMapAndEveryNewOne) {
+  auto grid = std::make_shared<mapping::OccupancyGrid>(4, 3, 0.5, geometry::Pose2D{});
+  hub_.publish_map(1.0, grid, 7);
+  auto client = connect(R"("map")");
+  std::optional<Frame> frame;
+  while ((frame = client->read()) && frame->opcode != 0x2) {
+  }
+  ASSERT_TRUE(frame.has_value()) << "the current map, at subscription";
+  const SharedFrame latest = hub_.latest_map_frame(true);
+  ASSERT_TRUE(latest.binary);
+  EXPECT_EQ(encode_ws_frame(WsOpcode::kBinary, frame->payload), *latest.binary);
+  EXPECT_EQ(hub_.latest_map_frame(true).binary, latest.binary) << "encoded once, then kept";
+
+  hub_.publish_map(2.0, grid, 8);
+  hub_.flush();
+  while ((frame = client->read()) && frame->opcode != 0x2) {
+  }
+  ASSERT_TRUE(frame.has_value()) << "a newly published map";
+  EXPECT_EQ(encode_ws_frame(WsOpcode::kBinary, frame->payload),
+            *hub_.latest_map_frame(true).binary);
+  EXPECT_NE(hub_.latest_map_frame(true).binary, latest.binary);
+  EXPECT_TRUE(hub_.latest_map_frame(false).json) << "and in JSON for a JSON subscriber";
+}
+
+TEST_F(StreamHubTest, APublishedMapIsEncodedOutsideTheHubLock) {
+  // Big enough that its JSON takes far longer than taking the lock.
+  auto grid = std::make_shared<mapping::OccupancyGrid>(1500, 1500, 0.05, geometry::Pose2D{});
+  const auto encode_started = std::chrono::steady_clock::now();
+  const std::string encoded = encode_json_frame("map", {}, map_json(*grid, 1));
+  const auto encode_time = std::chrono::steady_clock::now() - encode_started;
+  hub_.count_subscription(TopicId::kMap, false, +1);
+  std::atomic<bool> publishing{true};
+  std::thread map_activation([&] {
+    hub_.publish_map(1.0, grid, 1);
+    publishing = false;
+  });
+  std::chrono::steady_clock::duration longest{};
+  while (publishing) {
+    // metrics_text() takes the hub's lock, as every publication of the control loop does.
+    const auto started = std::chrono::steady_clock::now();
+    hub_.metrics_text();
+    longest = std::max(longest, std::chrono::steady_clock::now() - started);
+  }
+  map_activation.join();
+  hub_.count_subscription(TopicId::kMap, false, -1);
+  EXPECT_LT(longest, encode_time / 2)
+      << "the lock was held for " << std::chrono::duration<double, std::milli>(longest).count()
+      << " ms of a " << std::chrono::duration<double, std::milli>(encode_time).count()
+      << " ms encode";
+  ASSERT_TRUE(hub_.latest_map_frame(false).json);
+  EXPECT_GT(hub_.latest_map_frame(false).json->size(), encoded.size() / 2);
+}
+
+// Sessions with short liveness intervals.
+class StreamIdleTest : public StreamHubTest {
+ protected:
+  StreamIdleTest() : StreamHubTest(short_intervals()) {}
+
+  static StreamOptions short_intervals() {
+    StreamOptions options;
+    options.ping_interval_ms = 100;
+    options.idle_timeout_ms = 400;
+    return options;
+  }
+};
+
+TEST_F(StreamIdleTest, ASilentClientIsPingedThenClosedAndReleased) {
+  auto client = connect(R"("pose")");
+  const auto last_sent = std::chrono::steady_clock::now();
+  int pings = 0;
+  std::optional<Frame> close;
+  while (auto frame = client->read()) {
+    if (frame->opcode == 0x9) ++pings;
+    if (frame->opcode == 0x8) close = frame;
+  }
+  const auto silence = std::chrono::steady_clock::now() - last_sent;
+  ASSERT_TRUE(close.has_value());
+  ASSERT_GE(close->payload.size(), 2U);
+  EXPECT_EQ((static_cast<unsigned char>(close->payload[0]) << 8) |
+                static_cast<unsigned char>(close->payload[1]),
+            1001);
+  EXPECT_EQ(close->payload.substr(2), "idle timeout");
+  EXPECT_GE(pings, 2) << "pinged every 100 ms of silence before the 400 ms time-out";
+  EXPECT_GE(silence, 350ms);
+  EXPECT_LT(silence, 3s);
+  EXPECT_TRUE(wait_for_clients(0)) << "the idle session left the hub";
+}
+
+TEST_F(StreamIdleTest, AClientThatAnswersPingsStaysOpen) {
+  auto client = connect(R"("pose")");
+  int pings = 0;
+  const auto until = std::chrono::steady_clock::now() + 1500ms;
+  while (std::chrono::steady_clock::now() < until) {
+    const auto frame = client->read();
+    ASSERT_TRUE(frame.has_value()) << "the connection ended";
+    ASSERT_NE(frame->opcode, 0x8U) << "closed though it answered every ping";
+    if (frame->opcode == 0x9) {
+      ++pings;
+      client->send_pong(frame->payload);
+    }
+  }
+  EXPECT_GE(pings, 5);
+  EXPECT_EQ(metric(hub_, "mobot_stream_clients"), 1U);
+}
+
+TEST_F(StreamIdleTest, AClientThatKeepsTalkingIsNotPinged) {
+  auto client = connect(R"("pose")");
+  int pings = 0;
+  const auto until = std::chrono::steady_clock::now() + 1000ms;
+  while (std::chrono::steady_clock::now() < until) {
+    client->send_text(R"({"op":"ping"})");
+    const auto frame = client->read();
+    ASSERT_TRUE(frame.has_value()) << "the connection ended";
+    ASSERT_NE(frame->opcode, 0x8U);
+    if (frame->opcode == 0x9) ++pings;
+    std::this_thread::sleep_for(30ms);
+  }
+  // A session that pinged regardless of what it heard would have sent ten; one may slip through a
+  // scheduling hiccup of a loaded machine.
+  EXPECT_LE(pings, 1);
+  EXPECT_EQ(metric(hub_, "mobot_stream_clients"), 1U);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "server/config.h"
+#include "server/plugins/plugins.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -54,13 +55,13 @@ TEST(Config, ReadsValues) {
 TEST(Config, ReadsCalibratedOdometryAndTheFusedMeasurementSets) {
   const Config config = load_config(write_config(
       "odometry: {left_wheel_radius_m: 0.0747, right_wheel_radius_m: 0.0752, track_m: 0.606}\n"
-      "localization: {method: ekf, fuse: [compass]}\n"));
+      "localization: {method: ekf}\nestimators: {ekf: {fuse: [compass]}}\n"));
   EXPECT_DOUBLE_EQ(config.odometry.left_wheel_radius_m, 0.0747);
   EXPECT_DOUBLE_EQ(config.odometry.track_m, 0.606);
-  EXPECT_TRUE(config.localization.fuse_compass);
-  EXPECT_FALSE(config.localization.fuse_lines);
-  EXPECT_FALSE(config.localization.fuse_bearing);
-  EXPECT_NE(error_of("localization: {fuse: [gps]}").find("'gps'"), std::string::npos);
+  // The EKF plugin reads its own section: compass on, lines and bearings off.
+  const auto estimators = configure_plugins(builtin_plugins(), config, {}).estimators;
+  EXPECT_EQ(estimators.make("ekf")->method(), "ekf(odometry+compass)");
+  EXPECT_NE(error_of("estimators: {ekf: {fuse: [gps]}}").find("'gps'"), std::string::npos);
   EXPECT_NE(error_of("localization: {method: magic}").find("localization.method"),
             std::string::npos);
   EXPECT_NE(error_of("navigation: {max_linear_mps: 5}").find("navigation.max_linear_mps"),

@@ -1,0 +1,25 @@
+#pragma once
+
+#include "api/ports/control_port.h"
+#include "api/ports/map_catalog_port.h"
+#include "api/ports/run_archive_port.h"
+#include "api/ports/sim_control_port.h"
+#include "api/ports/sweeps_port.h"
+#include "api/ports/system_port.h"
+#include "api/ports/token_admin_port.h"
+
+namespace mobot::api {
+
+// The doors from the API into the robot, one per role; the server implements them and the API
+// never sees the server's classes. `sim` is null on the hardware backend.
+struct Ports {
+  ControlPort& control;
+  MapCatalogPort& maps;
+  RunArchivePort& runs;
+  TokenAdminPort& tokens;
+  SweepsPort& sweeps;
+  SystemPort& system;
+  SimControlPort* sim = nullptr;
+};
+
+}  // namespace mobot::api

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/estimation/wheel_odometry.h"
+#include "core/geometry/pose2d.h"
+#include "core/mapping/occupancy_grid.h"
+#include "core/msgs/compass_reading.h"
+#include "core/msgs/landmark_bearing.h"
+#include "core/msgs/laser_scan.h"
+#include "core/perception/line_segment.h"
+
+namespace mobot::estimation {
+
+// What localization knows of the active map, prepared once per map (off the control loop).
+struct MapModel {
+  std::shared_ptr<const mapping::OccupancyGrid> grid;
+  std::vector<perception::LineSegment> wall_lines;  // map frame, with their free side
+};
+
+// This tick's readings, for an estimator to take what it uses. A null pointer: no new reading.
+struct EstimatorInputs {
+  double stamp_s = 0.0;
+  const WheelTravel* travel = nullptr;  // the wheels' motion since the last tick
+  double track_m = 0.0;
+  const msgs::LaserScan* scan = nullptr;
+  const msgs::CompassReading* compass = nullptr;
+  const msgs::LandmarkBearings* bearings = nullptr;
+};
+
+struct EstimatorCounters {
+  std::uint64_t scan_updates = 0;       // scans fused
+  std::uint64_t features_matched = 0;   // scan features paired with the map
+  std::uint64_t rejected_updates = 0;   // updates refused (gate, NaN)
+};
+
+// The robot's pose in the map frame, from odometry and whatever else the implementation fuses
+// (EKF, particle filter, SLAM), chosen by name through the estimator registry. Called on the
+// control loop once per tick: it must be cheap and never block.
+class PoseEstimator {
+ public:
+  virtual ~PoseEstimator() = default;
+  virtual std::string_view name() const = 0;
+  // As /robot reports it: the name and, in parentheses, what is fused.
+  virtual std::string method() const = 0;
+
+  virtual void reset(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance) = 0;
+  virtual void set_map(std::shared_ptr<const MapModel> map) = 0;
+  virtual void update(const EstimatorInputs& inputs) = 0;
+
+  virtual geometry::Pose2D pose() const = 0;
+  virtual Eigen::Matrix3d covariance() const = 0;
+  virtual EstimatorCounters counters() const = 0;
+};
+
+}  // namespace mobot::estimation

@@ -1,0 +1,54 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "core/geometry/pose2d.h"
+#include "core/msgs/laser_scan.h"
+#include "core/msgs/sonar_ring.h"
+#include "core/planning/planning_grid.h"
+
+namespace mobot::perception {
+
+struct UnmappedObstaclesOptions {
+  // A return within this many cells of a lethal cell of the map is that wall.
+  int map_match_cells = 2;
+  // Arc samples across a sonar cone: the echo may come from anywhere in it, not only its axis.
+  int cone_samples = 5;
+};
+
+// What the range sensors see that the map does not explain (dropped obstacles, people): the
+// laser's returns away from the map's walls, which planning adds as obstacles, and the sonar
+// echoes on the path being followed, which the potential field reacts to. A costmap layer in all
+// but its output: it keeps points, not cells, because planning re-inflates them per plan.
+class UnmappedObstacles {
+ public:
+  explicit UnmappedObstacles(UnmappedObstaclesOptions options = {});
+
+  // The inflated active map the returns are compared with; null: everything is explained.
+  void set_map(std::shared_ptr<const planning::PlanningGrid> map) { map_ = std::move(map); }
+
+  // Keeps the scan's returns the map does not explain, in the map frame (replacing the last).
+  void observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
+  const std::vector<geometry::Point2D>& points() const { return points_; }
+  // Whether a kept return lies within `within_m` of the polyline `path`.
+  bool blocks(const std::vector<geometry::Point2D>& path, double within_m) const;
+
+  // The ring with every echo the potential field should ignore set to its maximum range: walls
+  // of the map, and what lies farther than `within_m` from `path` (the planner keeps clear of it).
+  std::vector<msgs::RangeReading> echoes_on_path(const msgs::SonarRing& ring,
+                                                 const geometry::Pose2D& base_in_map,
+                                                 const std::vector<geometry::Point2D>& path,
+                                                 double within_m) const;
+
+  bool explained_by_map(const geometry::Point2D& point_in_map) const;
+
+ private:
+  bool echo_is_wall(const msgs::RangeReading& reading, const geometry::Pose2D& sensor) const;
+
+  UnmappedObstaclesOptions options_;
+  std::shared_ptr<const planning::PlanningGrid> map_;
+  std::vector<geometry::Point2D> points_;
+};
+
+}  // namespace mobot::perception

@@ -1,0 +1,103 @@
+#include "drivers/sim/sim_backend.h"
+
+#include <stdexcept>
+
+#include "drivers/sim/sim_base.h"
+#include "drivers/sim/sim_sensor.h"
+#include "drivers/sim/sim_tilt_laser.h"
+#include "drivers/sim/world.h"
+
+namespace mobot::sim {
+namespace {
+
+kinematics::RobotGeometry geometry_of(const RobotProfile& profile) {
+  return {profile.wheel_radius_m,        profile.track_m,
+          static_cast<int>(profile.ticks_per_wheel_rev), profile.footprint_length_m,
+          profile.footprint_width_m,     profile.height_m};
+}
+
+std::filesystem::path worlds_dir_of(const drivers::BackendOptions& options) {
+  return options.worlds_dir.empty() ? std::filesystem::path(MOBOT_DEFAULT_WORLDS_DIR)
+                                    : options.worlds_dir;
+}
+
+RobotProfile profile_named(const std::string& name) {
+  if (name == "r1") return r1_profile();
+  throw drivers::BackendError("robot.profile: the simulator has no '" + name +
+                              "' robot; it has r1");
+}
+
+}  // namespace
+
+SimBackend::SimBackend(World world, RobotProfile profile, const drivers::BackendOptions& options)
+    : profile_(std::move(profile)),
+      geometry_(geometry_of(profile_)),
+      worlds_dir_(worlds_dir_of(options)),
+      seed_(options.seed),
+      simulator_(std::make_unique<Simulator>(std::move(world), profile_, seed_)) {
+  drivers_.base = std::make_unique<SimBase>(*this);
+  drivers_.laser = std::make_unique<SimSensor<msgs::LaserScan>>(
+      "laser", options.laser_rate_hz, [this] { return simulator_->read_laser(); });
+  drivers_.sonar = std::make_unique<SimSensor<msgs::SonarRing>>(
+      "sonar", options.sonar_rate_hz, [this] { return simulator_->read_sonar(); });
+  drivers_.compass = std::make_unique<SimSensor<msgs::CompassReading>>(
+      "compass", options.compass_rate_hz, [this] { return simulator_->read_compass(); });
+  // The omni camera's bearings are taken with the compass reading, as R1 reads them together.
+  drivers_.bearings = std::make_unique<SimSensor<msgs::LandmarkBearings>>(
+      "bearings", options.compass_rate_hz, [this] { return simulator_->read_landmark_bearings(); });
+  drivers_.tilt = std::make_unique<SimTiltLaser>(*this, seed_);
+}
+
+mapping::OccupancyGrid SimBackend::surveyed_map() const {
+  return sim::surveyed_map(simulator_->world(), profile_.height_m);
+}
+
+std::vector<drivers::SimWorldEntry> SimBackend::worlds() const {
+  std::vector<drivers::SimWorldEntry> out;
+  for (const auto& world : list_worlds(worlds_dir_)) out.push_back({world.name, world.description});
+  return out;
+}
+
+drivers::SimWorldChoice SimBackend::load_world(const std::string& name) const {
+  try {
+    auto world = std::make_shared<const World>(sim::load_world(resolve_world(worlds_dir_, name)));
+    return {world->name, sim::surveyed_map(*world, profile_.height_m), world};
+  } catch (const WorldError& error) {
+    throw std::invalid_argument(error.what());
+  }
+}
+
+bool SimBackend::pose_is_free(const geometry::Pose2D& pose,
+                              const drivers::SimWorldChoice* world) const {
+  if (world) return !Simulator(*world->world, profile_, 0).pose_collides(pose);
+  return !simulator_->pose_collides(pose);
+}
+
+void SimBackend::reset(const drivers::SimWorldChoice* world, std::optional<geometry::Pose2D> pose,
+                       std::optional<std::uint64_t> seed) {
+  if (seed) seed_ = *seed;
+  if (world) {
+    const geometry::Pose2D start = pose.value_or(world->world->start);
+    simulator_ = std::make_unique<Simulator>(*world->world, profile_, seed_);
+    simulator_->reset(start, seed_);
+  } else {
+    simulator_->reset(pose.value_or(simulator_->world().start), seed_);
+  }
+}
+
+int SimBackend::add_obstacle(double x_m, double y_m, double radius_m, double height_m) {
+  return simulator_->add_obstacle(x_m, y_m, radius_m, height_m);
+}
+
+std::unique_ptr<SimBackend> make_sim_backend(const drivers::BackendOptions& options) {
+  RobotProfile profile = profile_named(options.profile);
+  World world;
+  try {
+    world = load_world(resolve_world(worlds_dir_of(options), options.world));
+  } catch (const WorldError& error) {
+    throw drivers::BackendError(std::string("world: ") + error.what());
+  }
+  return std::make_unique<SimBackend>(std::move(world), std::move(profile), options);
+}
+
+}  // namespace mobot::sim

@@ -1,0 +1,21 @@
+#pragma once
+
+#include "core/control/velocity_limits.h"
+#include "core/kinematics/robot_geometry.h"
+#include "server/config.h"
+
+namespace mobot::server {
+
+// What every plugin may take its defaults from: the robot it runs on and the config's shared
+// sections (limits, navigation tolerances), so no tuning constant lives in the wiring.
+struct PluginContext {
+  kinematics::RobotGeometry geometry;
+  control::VelocityLimits limits;
+  NavigationSection navigation;
+};
+
+inline PluginContext plugin_context(const Config& config, const kinematics::RobotGeometry& geometry) {
+  return {geometry, config.robot.limits, config.navigation};
+}
+
+}  // namespace mobot::server

@@ -1,0 +1,109 @@
+#include "server/services/map_catalog.h"
+
+#include <boost/asio/post.hpp>
+#include <chrono>
+
+namespace mobot::server {
+namespace {
+
+double unix_now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+api::MapInfo to_api(const db::MapMeta& meta) {
+  return {meta.id,           meta.name,   meta.width,          meta.height,
+          meta.resolution_m, meta.origin, meta.created_unix_s, meta.active};
+}
+
+api::DomainError unknown_map() {
+  return {api::ErrorKind::kNotFound, "unknown_map", "no map with this id"};
+}
+
+}  // namespace
+
+MapCatalog::MapCatalog(db::MapStore& maps, Runtime& runtime, std::vector<MapListener*> listeners)
+    : maps_(maps), runtime_(runtime), listeners_(std::move(listeners)) {}
+
+MapCatalog::~MapCatalog() { worker_.join(); }
+
+std::vector<api::MapInfo> MapCatalog::list_maps() const {
+  std::vector<api::MapInfo> out;
+  for (const auto& meta : maps_.list()) out.push_back(to_api(meta));
+  return out;
+}
+
+std::optional<api::MapInfo> MapCatalog::map_info(std::int64_t id) const {
+  const auto meta = maps_.meta(id);
+  if (!meta) return std::nullopt;
+  return to_api(*meta);
+}
+
+std::optional<mapping::OccupancyGrid> MapCatalog::map_grid(std::int64_t id) const {
+  return maps_.grid(id);
+}
+
+std::int64_t MapCatalog::import_map(const std::string& name, const mapping::OccupancyGrid& grid) {
+  return maps_.insert(name, grid, unix_now_s());
+}
+
+void MapCatalog::switch_to(std::int64_t id, std::function<void()> done) {
+  auto grid = maps_.grid(id);
+  if (!grid) return;
+  const ActiveMap map{id, ++generation_,
+                      std::make_shared<const mapping::OccupancyGrid>(std::move(*grid))};
+  for (auto* listener : listeners_) listener->prepare_map(map);
+  runtime_.post([this, map, done = std::move(done)](TickContext& context) {
+    for (auto* listener : listeners_) listener->apply_map(map, context);
+    context.bus->map.publish({context.now_s, map.grid, map.id});
+    if (done) context.then(done);
+  });
+}
+
+void MapCatalog::activate_map(std::int64_t id, api::Completion<api::MapInfo> done) {
+  boost::asio::post(worker_, [this, id, done = std::move(done)]() mutable {
+    std::lock_guard lock(mutex_);
+    if (!maps_.activate(id)) return done(unknown_map());
+    const auto info = map_info(id);
+    switch_to(id, [done = std::move(done), info]() mutable { done(*info); });
+  });
+}
+
+void MapCatalog::activate_stored_now() {
+  std::lock_guard lock(mutex_);
+  if (const auto id = maps_.active_id()) switch_to(*id, {});
+}
+
+void MapCatalog::reactivate(api::Completion<api::Done> done) {
+  boost::asio::post(worker_, [this, done = std::move(done)]() mutable {
+    std::lock_guard lock(mutex_);
+    const auto id = maps_.active_id();
+    if (!id) return done(api::Done{});
+    switch_to(*id, [done = std::move(done)]() mutable { done(api::Done{}); });
+  });
+}
+
+void MapCatalog::ensure_named_map(const std::string& name, const mapping::OccupancyGrid& floor) {
+  std::lock_guard lock(mutex_);
+  for (const auto& meta : maps_.list()) {
+    if (meta.name == name) {
+      if (!meta.active) maps_.activate(meta.id);
+      return;
+    }
+  }
+  maps_.activate(maps_.insert(name, floor, unix_now_s()));
+}
+
+void MapCatalog::delete_map(std::int64_t id) {
+  std::lock_guard lock(mutex_);
+  switch (maps_.remove(id)) {
+    case db::MapStore::RemoveResult::kRemoved:
+      return;
+    case db::MapStore::RemoveResult::kNotFound:
+      throw api::DomainException(unknown_map());
+    case db::MapStore::RemoveResult::kActive:
+      throw api::DomainException(api::ErrorKind::kConflict, "map_active",
+                                 "the active map cannot be deleted: activate another");
+  }
+}
+
+}  // namespace mobot::server

@@ -1,0 +1,68 @@
+#include "server/services/token_admin.h"
+
+#include <chrono>
+
+#include "server/token_auth.h"
+
+namespace mobot::server {
+namespace {
+
+double unix_now_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+TokenAdmin::TokenAdmin(db::TokenStore& tokens, const std::string& process_admin_token)
+    : tokens_(tokens),
+      process_admin_hash_(process_admin_token.empty() ? "" : hash_token(process_admin_token)) {}
+
+std::optional<std::string> TokenAdmin::create_first_admin() {
+  if (tokens_.count_admins() > 0) return std::nullopt;
+  std::string token = generate_token();
+  tokens_.add(hash_token(token), db::Role::kAdmin, "first start", unix_now_s());
+  return token;
+}
+
+std::optional<api::Role> TokenAdmin::authenticate(std::string_view token) {
+  if (token.size() > 256) return std::nullopt;
+  const std::string hash = hash_token(token);
+  if (!process_admin_hash_.empty() && hash == process_admin_hash_) return api::Role::kAdmin;
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = role_cache_.find(hash); it != role_cache_.end()) return it->second;
+  }
+  const auto role = tokens_.find_role(hash);
+  if (!role) return std::nullopt;
+  const auto api_role = static_cast<api::Role>(static_cast<int>(*role));
+  std::lock_guard lock(mutex_);
+  role_cache_[hash] = api_role;
+  return api_role;
+}
+
+std::pair<std::int64_t, std::string> TokenAdmin::create_token(api::Role role,
+                                                              const std::string& label) {
+  const std::string token = generate_token();
+  const auto id = tokens_.add(hash_token(token), static_cast<db::Role>(static_cast<int>(role)),
+                              label, unix_now_s());
+  return {id, token};
+}
+
+std::vector<api::TokenInfo> TokenAdmin::list_tokens() const {
+  std::vector<api::TokenInfo> out;
+  for (const auto& token : tokens_.list()) {
+    out.push_back({token.id, static_cast<api::Role>(static_cast<int>(token.role)), token.label,
+                   token.created_unix_s, token.revoked});
+  }
+  return out;
+}
+
+bool TokenAdmin::revoke_token(std::int64_t id) {
+  if (!tokens_.revoke(id)) return false;
+  // A revoked token must stop working at once, not when its cache entry ages out.
+  std::lock_guard lock(mutex_);
+  role_cache_.clear();
+  return true;
+}
+
+}  // namespace mobot::server

@@ -1,0 +1,55 @@
+#include "server/stages/publish_stage.h"
+
+namespace mobot::server {
+namespace {
+
+std::array<double, 9> to_array(const Eigen::Matrix3d& m) {
+  std::array<double, 9> out{};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out[static_cast<std::size_t>(r * 3 + c)] = m(r, c);
+  }
+  return out;
+}
+
+std::string mode_of(const TickContext& context) {
+  if (context.estop) return "estop";
+  if (context.teleop_active) return "teleop";
+  if (context.navigating) return "navigating";
+  return "idle";
+}
+
+}  // namespace
+
+api::RobotSnapshot robot_snapshot(const TickContext& context, const std::string& kinematics) {
+  api::RobotSnapshot snapshot;
+  snapshot.t_s = context.now_s;
+  snapshot.mode = mode_of(context);
+  snapshot.pose = context.pose;
+  snapshot.velocity = context.odometry.twist;
+  snapshot.localization_method = context.localization_method;
+  snapshot.covariance = to_array(context.covariance);
+  snapshot.kinematics = kinematics;
+  snapshot.estop = context.estop;
+  for (const auto& sensor : context.sensors) {
+    snapshot.sensors[sensor.name] = {sensor.ok, sensor.rate_hz, sensor.reason};
+  }
+  return snapshot;
+}
+
+void PublishStage::step(TickContext& context) {
+  Bus& bus = *context.bus;
+  bus.pose.publish({context.now_s, context.pose, context.odometry.twist,
+                    to_array(context.covariance), context.distance_m});
+  bus.odom.publish(context.odometry);
+  if (context.scan) {
+    bus.scan.publish({*context.scan, geometry::compose(context.pose, context.scan->sensor_in_base)});
+  }
+  if (context.sonar) bus.sonar.publish({*context.sonar, context.pose});
+  if (status_schedule_.due(context.now_s)) {
+    bus.status.publish(robot_snapshot(context, kinematics_));
+    status_schedule_.taken(context.now_s);
+  }
+  bus.flush.publish({context.now_s});
+}
+
+}  // namespace mobot::server

@@ -1,0 +1,256 @@
+// Fake ports for the API's unit tests: a small robot whose answers the test controls. Requests
+// that wait complete at once (inside the call, as a port may) or, with `defer`, when the test runs
+// what was kept, from whichever thread it likes.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "api/ports/ports.h"
+
+namespace mobot::api::test {
+
+// How the fakes answer; shared by all of them.
+class Answers {
+ public:
+  // Completions are kept for run_pending() instead of being called inside the port call.
+  bool defer = false;
+  // Every request is refused with this: through its Completion, or thrown by a method that
+  // answers at once.
+  std::optional<DomainError> refusal;
+  // A misbehaving port: calls the Completion this many times, then (optionally) throws.
+  int calls = 1;
+  bool throw_after_completing = false;
+
+  template <class T>
+  void complete(Completion<T> done, Result<T> result) {
+    if (refusal) result = Result<T>(*refusal);
+    if (!defer) {
+      call(done, result);
+      return;
+    }
+    std::lock_guard lock(mutex_);
+    pending_.push_back(
+        [this, done = std::move(done), result = std::move(result)] { call(done, result); });
+  }
+
+  void check() const {
+    if (refusal) throw DomainException(*refusal);
+  }
+
+  // Runs the kept completions on the calling thread; returns how many ran.
+  std::size_t run_pending() {
+    std::vector<std::function<void()>> pending;
+    {
+      std::lock_guard lock(mutex_);
+      pending.swap(pending_);
+    }
+    for (auto& run : pending) run();
+    return pending.size();
+  }
+
+  std::size_t pending() const {
+    std::lock_guard lock(mutex_);
+    return pending_.size();
+  }
+
+ private:
+  template <class T>
+  void call(const Completion<T>& done, const Result<T>& result) {
+    for (int i = 0; i < calls; ++i) done(result);
+    if (throw_after_completing) {
+      throw DomainException(ErrorKind::kConflict, "late_failure", "failed after completing");
+    }
+  }
+
+  mutable std::mutex mutex_;
+  std::vector<std::function<void()>> pending_;
+};
+
+class FakeControl : public ControlPort {
+ public:
+  explicit FakeControl(Answers& answers) : answers_(answers) {}
+
+  double clock_s = 12.5;
+  std::vector<std::string> planners{"astar", "voronoi"};
+  std::vector<std::string> controllers{"lyapunov"};
+
+  RobotSnapshot snapshot() const override {
+    RobotSnapshot snapshot;
+    snapshot.t_s = clock_s;
+    snapshot.mode = "idle";
+    return snapshot;
+  }
+  double time_s() const override { return clock_s; }
+  void teleop(const msgs::Twist& command, int, Completion<msgs::Twist> done) override {
+    answers_.complete(std::move(done), Result<msgs::Twist>(command));
+  }
+  void set_estop(bool engaged, Completion<bool> done) override {
+    answers_.complete(std::move(done), Result<bool>(engaged));
+  }
+  void submit_goal(const GoalRequest& request, Completion<navigation::Goal> done) override {
+    navigation::Goal goal;
+    goal.id = 1;
+    goal.status = navigation::GoalStatus::kActive;
+    goal.target = request.target;
+    goal.has_heading = request.has_heading;
+    goal.planner = request.planner;
+    goal.controller = request.controller;
+    answers_.complete(std::move(done), Result<navigation::Goal>(goal));
+  }
+  std::vector<navigation::Goal> list_goals() const override { return {}; }
+  std::optional<navigation::Goal> find_goal(std::int64_t) const override { return std::nullopt; }
+  void cancel_goal(std::int64_t, Completion<navigation::Goal> done) override {
+    answers_.complete(std::move(done),
+                      Result<navigation::Goal>(DomainError{ErrorKind::kNotFound, "unknown_goal",
+                                                           "no goal with this id"}));
+  }
+  void set_localization_pose(const geometry::Pose2D&, const std::array<double, 9>&,
+                             Completion<Done> done) override {
+    answers_.complete(std::move(done), Result<Done>(Done{}));
+  }
+  std::vector<std::string> planner_names() const override { return planners; }
+  std::vector<std::string> controller_names() const override { return controllers; }
+
+ private:
+  Answers& answers_;
+};
+
+class FakeMaps : public MapCatalogPort {
+ public:
+  explicit FakeMaps(Answers& answers) : answers_(answers) {}
+
+  std::vector<MapInfo> list_maps() const override { return {}; }
+  std::optional<MapInfo> map_info(std::int64_t) const override { return std::nullopt; }
+  std::optional<mapping::OccupancyGrid> map_grid(std::int64_t) const override {
+    return std::nullopt;
+  }
+  std::int64_t import_map(const std::string&, const mapping::OccupancyGrid&) override { return 1; }
+  void activate_map(std::int64_t id, Completion<MapInfo> done) override {
+    MapInfo info;
+    info.id = id;
+    info.name = "lab";
+    info.active = true;
+    answers_.complete(std::move(done), Result<MapInfo>(info));
+  }
+  void delete_map(std::int64_t) override { answers_.check(); }
+
+ private:
+  Answers& answers_;
+};
+
+class FakeRuns : public RunArchivePort {
+ public:
+  explicit FakeRuns(Answers& answers) : answers_(answers) {}
+
+  std::vector<RunInfo> runs{{3, "run-3", 100.0, std::nullopt, 1.5, 1, 0, 0}};
+
+  void list_runs(Completion<std::vector<RunInfo>> done) const override {
+    answers_.complete(std::move(done), Result<std::vector<RunInfo>>(runs));
+  }
+  void run_trajectory(std::int64_t, Completion<std::vector<TrajectoryPoint>> done) const override {
+    answers_.complete(std::move(done), Result<std::vector<TrajectoryPoint>>(
+                                           std::vector<TrajectoryPoint>{{0.0, 1.0, 2.0, 0.5}}));
+  }
+  void run_events(std::int64_t, Completion<std::vector<RunEvent>> done) const override {
+    answers_.complete(std::move(done), Result<std::vector<RunEvent>>(std::vector<RunEvent>{}));
+  }
+
+ private:
+  Answers& answers_;
+};
+
+// The token is the role's name.
+class FakeTokens : public TokenAdminPort {
+ public:
+  std::optional<Role> authenticate(std::string_view token) override {
+    if (token == "viewer") return Role::kViewer;
+    if (token == "operator") return Role::kOperator;
+    if (token == "admin") return Role::kAdmin;
+    return std::nullopt;
+  }
+  std::pair<std::int64_t, std::string> create_token(Role, const std::string&) override {
+    return {1, "token"};
+  }
+  std::vector<TokenInfo> list_tokens() const override { return {}; }
+  bool revoke_token(std::int64_t) override { return false; }
+};
+
+class FakeSweeps : public SweepsPort {
+ public:
+  explicit FakeSweeps(Answers& answers) : answers_(answers) {}
+
+  void start_sweep(const SweepRequest& request, Completion<SweepInfo> done) override {
+    SweepInfo info;
+    info.id = 1;
+    info.status = "running";
+    info.period_s = request.period_s;
+    info.step_deg = request.step_deg;
+    answers_.complete(std::move(done), Result<SweepInfo>(info));
+  }
+  std::vector<SweepInfo> list_sweeps() const override { return {}; }
+  std::optional<SweepInfo> find_sweep(std::int64_t) const override { return std::nullopt; }
+  perception::PointCloud sweep_cloud(std::int64_t) const override {
+    answers_.check();
+    return {};
+  }
+  mapping::OccupancyGrid sweep_obstacle_map(std::int64_t) const override {
+    answers_.check();
+    return {};
+  }
+  void delete_sweep(std::int64_t) override { answers_.check(); }
+
+ private:
+  Answers& answers_;
+};
+
+class FakeSystem : public SystemPort {
+ public:
+  std::string backend_name() const override { return "fake"; }
+  double uptime_s() const override { return 1.0; }
+  std::string metrics_text() const override { return ""; }
+};
+
+class FakeSim : public SimControlPort {
+ public:
+  explicit FakeSim(Answers& answers) : answers_(answers) {}
+
+  std::vector<WorldInfo> list_worlds() const override { return {{"lab", "a test world"}}; }
+  SimTruth sim_truth() const override { return {}; }
+  void sim_reset(const SimResetRequest&, Completion<Done> done) override {
+    answers_.complete(std::move(done), Result<Done>(Done{}));
+  }
+  void set_time_scale(double) override {}
+  void add_sim_obstacle(const SimObstacleRequest&, Completion<int> done) override {
+    answers_.complete(std::move(done), Result<int>(7));
+  }
+  void remove_sim_obstacle(int, Completion<Done> done) override {
+    answers_.complete(std::move(done), Result<Done>(Done{}));
+  }
+
+ private:
+  Answers& answers_;
+};
+
+struct FakePorts {
+  Answers answers;
+  FakeControl control{answers};
+  FakeMaps maps{answers};
+  FakeRuns runs{answers};
+  FakeTokens tokens;
+  FakeSweeps sweeps{answers};
+  FakeSystem system;
+  FakeSim sim{answers};
+
+  // The doors into this fake robot, with or without the simulator's.
+  Ports ports(bool simulated = true) {
+    return {control, maps, runs, tokens, sweeps, system, simulated ? &sim : nullptr};
+  }
+};
+
+}  // namespace mobot::api::test
