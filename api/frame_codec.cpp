@@ -102,8 +102,8 @@ std::string encode_binary_cloud(const FrameStamp& stamp, const CloudChunk& chunk
 nlohmann::json cloud_json(const CloudChunk& chunk, std::span<const perception::CloudPoint> points) {
   nlohmann::json xyzi = nlohmann::json::array();
   for (const auto& p : points) xyzi.push_back({p.x_m, p.y_m, p.z_m, p.intensity});
-  return {{"sweep_id", chunk.sweep_id}, {"first", chunk.first_point},
-          {"count", points.size()},     {"last", chunk.last},
+  return {{"sweep_id", chunk.sweep_id},     {"first", chunk.first_point},
+          {"count", points.size()},         {"last", chunk.last},
           {"scans_done", chunk.scans_done}, {"scans_total", chunk.scans_total},
           {"points", std::move(xyzi)}};
 }
@@ -113,9 +113,9 @@ nlohmann::json pose_json(const geometry::Pose2D& pose) {
 }
 
 nlohmann::json scan_json(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map) {
-  return {{"angle_min", scan.angle_min_rad},   {"angle_increment", scan.angle_increment_rad},
-          {"range_min", scan.range_min_m},     {"range_max", scan.range_max_m},
-          {"ranges", scan.ranges_m},           {"sensor_pose", pose_json(sensor_in_map)}};
+  return {{"angle_min", scan.angle_min_rad}, {"angle_increment", scan.angle_increment_rad},
+          {"range_min", scan.range_min_m},   {"range_max", scan.range_max_m},
+          {"ranges", scan.ranges_m},         {"sensor_pose", pose_json(sensor_in_map)}};
 }
 
 nlohmann::json sonar_json(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map) {
@@ -152,14 +152,15 @@ nlohmann::json snapshot_json(const RobotSnapshot& snapshot) {
   for (const auto& [name, health] : snapshot.sensors) {
     sensors[name] = {{"ok", health.ok}, {"rate_hz", health.rate_hz}};
   }
-  return {{"t", snapshot.t_s},
-          {"mode", snapshot.mode},
-          {"pose", pose_json(snapshot.pose)},
-          {"velocity", {{"v", snapshot.velocity.linear_mps}, {"w", snapshot.velocity.angular_radps}}},
-          {"localization", {{"method", snapshot.localization_method}, {"cov", snapshot.covariance}}},
-          {"kinematics", snapshot.kinematics},
-          {"estop", snapshot.estop},
-          {"sensors", std::move(sensors)}};
+  return {
+      {"t", snapshot.t_s},
+      {"mode", snapshot.mode},
+      {"pose", pose_json(snapshot.pose)},
+      {"velocity", {{"v", snapshot.velocity.linear_mps}, {"w", snapshot.velocity.angular_radps}}},
+      {"localization", {{"method", snapshot.localization_method}, {"cov", snapshot.covariance}}},
+      {"kinematics", snapshot.kinematics},
+      {"estop", snapshot.estop},
+      {"sensors", std::move(sensors)}};
 }
 
 }  // namespace mobot::api

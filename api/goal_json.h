@@ -9,7 +9,7 @@
 
 namespace mobot::api {
 
-// CONTRACT.md's goal body: {"id","status","reason"?,"target","path":[[x,y],...],"created_t",
+// docs/api.md's goal body: {"id","status","reason"?,"target","path":[[x,y],...],"created_t",
 // "ended_t"?} plus the planner and controller it runs with.
 nlohmann::json goal_json(const navigation::Goal& goal);
 nlohmann::json path_json(const std::vector<geometry::Point2D>& path);

@@ -1,8 +1,8 @@
 #include "api/http_server.h"
 
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <boost/asio/strand.hpp>
-#include <spdlog/spdlog.h>
 #include <thread>
 
 #include "api/http_session.h"
@@ -18,8 +18,8 @@ HttpServer::HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hu
 }
 
 boost::asio::ip::tcp::endpoint HttpServer::listen(const HttpOptions& options) {
-  const boost::asio::ip::tcp::endpoint endpoint{
-      boost::asio::ip::make_address(options.bind_address), options.port};
+  const boost::asio::ip::tcp::endpoint endpoint{boost::asio::ip::make_address(options.bind_address),
+                                                options.port};
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
   acceptor_.bind(endpoint);

@@ -146,7 +146,7 @@ void HttpSession::upgrade_to_stream(const Request& request) {
   boost::asio::async_write(
       stream_, boost::asio::buffer(*handshake),
       [self = shared_from_this(), handshake, role = *role](boost::beast::error_code error,
-                                                            std::size_t) {
+                                                           std::size_t) {
         if (error) {
           self->close();
           return;

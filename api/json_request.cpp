@@ -43,7 +43,8 @@ nlohmann::json parse_json_body(std::string_view body) {
     return parsed;
   } catch (const nlohmann::json::exception& error) {
     // parse_error, and out_of_range for numbers beyond a double (1e999).
-    throw ApiError(400, "malformed_json", std::string("the body is not valid JSON: ") + error.what());
+    throw ApiError(400, "malformed_json",
+                   std::string("the body is not valid JSON: ") + error.what());
   }
 }
 
@@ -93,8 +94,7 @@ geometry::Pose2D parse_pose(const nlohmann::json& object, bool theta_required) {
   return pose;
 }
 
-geometry::Pose2D require_pose(const nlohmann::json& object, const char* key,
-                              bool theta_required) {
+geometry::Pose2D require_pose(const nlohmann::json& object, const char* key, bool theta_required) {
   const auto& value = field(object, key);
   if (!value.is_object()) invalid(key, "must be an object {\"x\",\"y\",\"theta\"}");
   return parse_pose(value, theta_required);

@@ -5,8 +5,7 @@
 
 namespace mobot::api {
 
-void append_sample(std::string& out, std::string_view name, double value,
-                   std::string_view labels) {
+void append_sample(std::string& out, std::string_view name, double value, std::string_view labels) {
   out.append(name);
   if (!labels.empty()) {
     out += '{';

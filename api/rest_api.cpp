@@ -88,9 +88,9 @@ Role RestApi::require_role(const Request& request, Role needed) const {
   const auto role = ports_.tokens.authenticate(token);
   if (!role) throw ApiError(401, "unauthorized", "unknown token");
   if (*role < needed) {
-    throw ApiError(403, "forbidden",
-                   needed == Role::kAdmin ? "this needs the admin role"
-                                          : "this needs the operator role");
+    throw ApiError(
+        403, "forbidden",
+        needed == Role::kAdmin ? "this needs the admin role" : "this needs the operator role");
   }
   return *role;
 }

@@ -21,7 +21,7 @@ struct RestOptions {
   std::string version;
 };
 
-// The REST API of CONTRACT.md and the dashboard's static files. handle() never throws: every
+// The REST API of docs/api.md and the dashboard's static files. handle() never throws: every
 // failure becomes a JSON error response, and a refused request changes nothing. A request that
 // waits for the robot (a command on the control loop, a read behind the recorder's commit) is
 // answered from its port's Completion, on whichever thread that runs; the others are answered

@@ -25,9 +25,9 @@ std::vector<std::uint8_t> decode_base64(std::string_view text) {
     throw ApiError(400, "invalid_image", "'image_base64' is not valid base64");
   }
   std::vector<std::uint8_t> bytes(compact.size() / 4 * 3);
-  const int length = EVP_DecodeBlock(bytes.data(),
-                                     reinterpret_cast<const unsigned char*>(compact.data()),
-                                     static_cast<int>(compact.size()));
+  const int length =
+      EVP_DecodeBlock(bytes.data(), reinterpret_cast<const unsigned char*>(compact.data()),
+                      static_cast<int>(compact.size()));
   if (length < 0) throw ApiError(400, "invalid_image", "'image_base64' is not valid base64");
   const auto padding = static_cast<std::size_t>(std::count(compact.end() - 2, compact.end(), '='));
   bytes.resize(static_cast<std::size_t>(length) - padding);
@@ -113,7 +113,8 @@ Response RestApi::import_map(const Request& request) {
   options.negate = optional_bool(body, "negate").value_or(false);
   options.occupied_thresh =
       optional_number(body, "occupied_thresh", 0.0, 1.0).value_or(options.occupied_thresh);
-  options.free_thresh = optional_number(body, "free_thresh", 0.0, 1.0).value_or(options.free_thresh);
+  options.free_thresh =
+      optional_number(body, "free_thresh", 0.0, 1.0).value_or(options.free_thresh);
   if (options.free_thresh >= options.occupied_thresh) {
     throw ApiError(400, "invalid_field", "'free_thresh' must be below 'occupied_thresh'");
   }
@@ -135,8 +136,7 @@ Response RestApi::map_info(const Request& request, std::int64_t id) const {
   return json_response(request, http::status::ok, map_info_json(*info));
 }
 
-Response RestApi::map_export(const Request& request, std::int64_t id,
-                             std::string_view what) const {
+Response RestApi::map_export(const Request& request, std::int64_t id, std::string_view what) const {
   const auto grid = ports_.maps.map_grid(id);
   if (!grid) unknown_map();
   if (what == "image") {

@@ -26,8 +26,8 @@ std::string trajectory_csv(const std::vector<TrajectoryPoint>& points) {
   std::string csv = "t,x,y,theta\n";
   char line[128];
   for (const auto& p : points) {
-    const int length = std::snprintf(line, sizeof line, "%.3f,%.4f,%.4f,%.5f\n", p.t_s, p.x, p.y,
-                                     p.theta);
+    const int length =
+        std::snprintf(line, sizeof line, "%.3f,%.4f,%.4f,%.5f\n", p.t_s, p.x, p.y, p.theta);
     csv.append(line, static_cast<std::size_t>(length));
   }
   return csv;
@@ -120,13 +120,13 @@ Handled RestApi::run_trajectory(const Request& request, std::int64_t id,
 }
 
 Handled RestApi::run_events(std::int64_t id, const Replier& reply) const {
-  ports_.runs.run_events(
-      id, reply.completion<std::vector<RunEvent>>(
-              [](const Request& head, const std::vector<RunEvent>& events) {
-                nlohmann::json json = nlohmann::json::array();
-                for (const auto& event : events) json.push_back(event_json(event));
-                return json_response(head, http::status::ok, json);
-              }));
+  ports_.runs.run_events(id, reply.completion<std::vector<RunEvent>>(
+                                 [](const Request& head, const std::vector<RunEvent>& events) {
+                                   nlohmann::json json = nlohmann::json::array();
+                                   for (const auto& event : events)
+                                     json.push_back(event_json(event));
+                                   return json_response(head, http::status::ok, json);
+                                 }));
   return kReplyLater;
 }
 

@@ -88,7 +88,8 @@ Handled RestApi::sim_reset(const Request& request, const Replier& reply) {
 }
 
 Response RestApi::sim_clock(const Request& request) {
-  const double time_scale = require_number(parse_json_body(request.body()), "time_scale", 0.1, 100.0);
+  const double time_scale =
+      require_number(parse_json_body(request.body()), "time_scale", 0.1, 100.0);
   ports_.sim->set_time_scale(time_scale);
   return json_response(request, http::status::ok, {{"time_scale", time_scale}});
 }

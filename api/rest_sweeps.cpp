@@ -10,15 +10,14 @@ namespace mobot::api {
 namespace {
 
 nlohmann::json sweep_json(const SweepInfo& sweep) {
-  nlohmann::json out{{"id", sweep.id},
-                     {"status", sweep.status},
-                     {"points", sweep.points},
-                     {"mode",
-                      {{"period_s", sweep.period_s},
-                       {"step_deg", sweep.step_deg},
-                       {"scans", sweep.scans}}},
-                     {"scans_done", sweep.scans_done},
-                     {"started_t", sweep.started_t}};
+  nlohmann::json out{
+      {"id", sweep.id},
+      {"status", sweep.status},
+      {"points", sweep.points},
+      {"mode",
+       {{"period_s", sweep.period_s}, {"step_deg", sweep.step_deg}, {"scans", sweep.scans}}},
+      {"scans_done", sweep.scans_done},
+      {"started_t", sweep.started_t}};
   if (sweep.ended_t) out["ended_t"] = *sweep.ended_t;
   if (!sweep.reason.empty()) out["reason"] = sweep.reason;
   return out;
@@ -26,9 +25,9 @@ nlohmann::json sweep_json(const SweepInfo& sweep) {
 
 SweepRequest parse_sweep(std::string_view body) {
   // Every field is optional, so an empty body asks for the default mode.
-  const nlohmann::json json =
-      body.find_first_not_of(" \t\r\n") == std::string_view::npos ? nlohmann::json::object()
-                                                                  : parse_json_body(body);
+  const nlohmann::json json = body.find_first_not_of(" \t\r\n") == std::string_view::npos
+                                  ? nlohmann::json::object()
+                                  : parse_json_body(body);
   SweepRequest request;
   request.period_s = optional_number(json, "period_s", 0.0, 1e6).value_or(request.period_s);
   request.step_deg = optional_number(json, "step_deg", 0.0, 1e6).value_or(request.step_deg);
@@ -44,7 +43,9 @@ nlohmann::json obstacle_map_json(std::int64_t id, const mapping::OccupancyGrid& 
           {"data", grid.cells()}};
 }
 
-[[noreturn]] void unknown_sweep() { throw ApiError(404, "unknown_sweep", "no 3D sweep with this id"); }
+[[noreturn]] void unknown_sweep() {
+  throw ApiError(404, "unknown_sweep", "no 3D sweep with this id");
+}
 
 }  // namespace
 

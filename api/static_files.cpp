@@ -44,7 +44,8 @@ Response RestApi::serve_static(const Request& request, std::string_view path) co
   std::ifstream in(file, std::ios::binary);
   std::ostringstream content;
   content << in.rdbuf();
-  Response response = bytes_response(request, http::status::ok, content_type_of(file), content.str());
+  Response response =
+      bytes_response(request, http::status::ok, content_type_of(file), content.str());
   // Vite puts a content hash in asset names, so they may be cached; index.html may not.
   if (relative.starts_with("/assets/")) {
     response.set(http::field::cache_control, "public, max-age=31536000, immutable");

@@ -48,8 +48,7 @@ void StreamHub::publish_json(TopicId topic, double t_s, const nlohmann::json& da
   distribute(topic, frame);
 }
 
-void StreamHub::publish_pose(double t_s, const geometry::Pose2D& pose,
-                             const msgs::Twist& velocity,
+void StreamHub::publish_pose(double t_s, const geometry::Pose2D& pose, const msgs::Twist& velocity,
                              const std::array<double, 9>& covariance) {
   if (!wanted(TopicId::kPose)) {
     next_stamp(TopicId::kPose, t_s);
@@ -287,8 +286,8 @@ void StreamHub::detach(const StreamSession* session) {
 }
 
 void StreamHub::count_subscription(TopicId topic, bool binary, int delta) {
-  auto& counter = binary ? binary_subscribers_[topic_index(topic)]
-                         : json_subscribers_[topic_index(topic)];
+  auto& counter =
+      binary ? binary_subscribers_[topic_index(topic)] : json_subscribers_[topic_index(topic)];
   counter.fetch_add(delta, std::memory_order_relaxed);
 }
 
@@ -296,8 +295,8 @@ std::string StreamHub::hello_frame() const {
   nlohmann::json topics = nlohmann::json::array();
   for (const auto& spec : kTopics) {
     if (spec.sim_only && !options_.simulated) continue;
-    nlohmann::json encodings = spec.binary_id != 0 ? nlohmann::json{"json", "binary"}
-                                                   : nlohmann::json{"json"};
+    nlohmann::json encodings =
+        spec.binary_id != 0 ? nlohmann::json{"json", "binary"} : nlohmann::json{"json"};
     topics.push_back({{"name", spec.name},
                       {"rate_hz", options_.nominal_rate_hz[topic_index(spec.id)]},
                       {"encodings", std::move(encodings)}});
@@ -339,7 +338,8 @@ std::string StreamHub::metrics_text() const {
   out += "# HELP mobot_stream_bytes_sent_total Bytes written to stream clients.\n";
   out += "# TYPE mobot_stream_bytes_sent_total counter\n";
   out += "mobot_stream_bytes_sent_total " + std::to_string(bytes_sent_.load()) + "\n";
-  out += "# HELP mobot_stream_frames_dropped_total Frames dropped for clients that read too slowly.\n";
+  out +=
+      "# HELP mobot_stream_frames_dropped_total Frames dropped for clients that read too slowly.\n";
   out += "# TYPE mobot_stream_frames_dropped_total counter\n";
   out += "mobot_stream_frames_dropped_total " + std::to_string(frames_dropped_.load()) + "\n";
   return out;

@@ -163,8 +163,8 @@ void StreamSession::check_client() {
 void StreamSession::handle_message(WsMessage message) {
   switch (message.opcode) {
     case WsOpcode::kPing:
-      queue_control(std::make_shared<const std::string>(
-          encode_ws_frame(WsOpcode::kPong, message.payload)));
+      queue_control(
+          std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPong, message.payload)));
       return;
     case WsOpcode::kPong:
       return;

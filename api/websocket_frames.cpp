@@ -23,7 +23,8 @@ std::string frame_header(WsOpcode opcode, std::size_t payload_bytes) {
   } else {
     header.push_back(static_cast<char>(127));
     for (int shift = 56; shift >= 0; shift -= 8) {
-      header.push_back(static_cast<char>((static_cast<std::uint64_t>(payload_bytes) >> shift) & 0xFF));
+      header.push_back(
+          static_cast<char>((static_cast<std::uint64_t>(payload_bytes) >> shift) & 0xFF));
     }
   }
   return header;
@@ -31,9 +32,7 @@ std::string frame_header(WsOpcode opcode, std::size_t payload_bytes) {
 
 bool is_control(WsOpcode opcode) { return (static_cast<unsigned>(opcode) & 0x8U) != 0; }
 
-bool is_known(unsigned opcode) {
-  return opcode <= 0x2 || (opcode >= 0x8 && opcode <= 0xA);
-}
+bool is_known(unsigned opcode) { return opcode <= 0x2 || (opcode >= 0x8 && opcode <= 0xA); }
 
 }  // namespace
 

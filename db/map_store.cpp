@@ -63,7 +63,8 @@ std::optional<MapMeta> MapStore::meta(std::int64_t id) const {
 }
 
 std::optional<mapping::OccupancyGrid> MapStore::grid(std::int64_t id) const {
-  return database_.read([id](const Connection& connection) -> std::optional<mapping::OccupancyGrid> {
+  return database_.read([id](
+                            const Connection& connection) -> std::optional<mapping::OccupancyGrid> {
     Statement row = connection.prepare(
         "SELECT width, height, resolution_m, origin_x, origin_y, origin_theta, cells FROM maps "
         "WHERE id = ?");

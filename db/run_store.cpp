@@ -63,7 +63,10 @@ void RunStore::append(std::int64_t run_id, const std::vector<TrajectorySample>& 
           .run();
       event_insert.reset();
     }
-    tx.prepare("UPDATE runs SET distance_m = ? WHERE id = ?").bind(1, distance_m).bind(2, run_id).run();
+    tx.prepare("UPDATE runs SET distance_m = ? WHERE id = ?")
+        .bind(1, distance_m)
+        .bind(2, run_id)
+        .run();
     if (tx.changes() == 0) throw DbError("no run with id " + std::to_string(run_id));
   });
 }
@@ -131,7 +134,8 @@ std::vector<EventRecord> RunStore::events(std::int64_t run_id) const {
         connection.prepare("SELECT t_s, kind, detail FROM events WHERE run_id = ? ORDER BY id");
     rows.bind(1, run_id);
     std::vector<EventRecord> out;
-    while (rows.step()) out.push_back({rows.column_double(0), rows.column_text(1), rows.column_text(2)});
+    while (rows.step())
+      out.push_back({rows.column_double(0), rows.column_text(1), rows.column_text(2)});
     return out;
   });
 }

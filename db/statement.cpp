@@ -4,12 +4,13 @@
 
 namespace mobot::db {
 
-void Statement::Finalizer::operator()(sqlite3_stmt* statement) const { sqlite3_finalize(statement); }
+void Statement::Finalizer::operator()(sqlite3_stmt* statement) const {
+  sqlite3_finalize(statement);
+}
 
 Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
   sqlite3_stmt* raw = nullptr;
-  const int code =
-      sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &raw, nullptr);
+  const int code = sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &raw, nullptr);
   statement_.reset(raw);
   check(code, sql);
 }
@@ -80,7 +81,8 @@ std::string Statement::column_text(int column) const {
 }
 
 std::vector<std::uint8_t> Statement::column_blob(int column) const {
-  const auto* data = static_cast<const std::uint8_t*>(sqlite3_column_blob(statement_.get(), column));
+  const auto* data =
+      static_cast<const std::uint8_t*>(sqlite3_column_blob(statement_.get(), column));
   const int bytes = sqlite3_column_bytes(statement_.get(), column);
   if (data == nullptr) return {};
   return {data, data + bytes};

@@ -37,8 +37,11 @@ std::int64_t SweepStore::insert_running(double period_s, double step_deg, int sc
         "INSERT INTO sweeps (run_id, status, period_s, step_deg, scans, started_t, "
         "created_unix_s) VALUES (?, 'running', ?, ?, ?, ?, ?)");
     if (run_id) insert.bind(1, *run_id);
-    insert.bind(2, period_s).bind(3, step_deg).bind(4, scans).bind(5, started_t).bind(6,
-                                                                                      created_unix_s);
+    insert.bind(2, period_s)
+        .bind(3, step_deg)
+        .bind(4, scans)
+        .bind(5, started_t)
+        .bind(6, created_unix_s);
     insert.run();
     return tx.last_insert_id();
   });
@@ -122,7 +125,8 @@ std::optional<SweepRecord> SweepStore::get(std::int64_t id) const {
 }
 
 std::optional<perception::PointCloud> SweepStore::cloud(std::int64_t id) const {
-  return database_.read([id](const Connection& connection) -> std::optional<perception::PointCloud> {
+  return database_.read([id](
+                            const Connection& connection) -> std::optional<perception::PointCloud> {
     Statement row =
         connection.prepare("SELECT points, cloud FROM sweeps WHERE id = ? AND status = 'done'");
     row.bind(1, id);
@@ -130,9 +134,8 @@ std::optional<perception::PointCloud> SweepStore::cloud(std::int64_t id) const {
     const std::vector<std::uint8_t> bytes = row.column_blob(1);
     perception::PointCloud cloud(static_cast<std::size_t>(row.column_int64(0)));
     if (bytes.size() != cloud.size() * sizeof(perception::CloudPoint)) {
-      throw DbError("sweep " + std::to_string(id) + " is corrupt: " +
-                    std::to_string(bytes.size()) + " cloud bytes for " +
-                    std::to_string(cloud.size()) + " points");
+      throw DbError("sweep " + std::to_string(id) + " is corrupt: " + std::to_string(bytes.size()) +
+                    " cloud bytes for " + std::to_string(cloud.size()) + " points");
     }
     if (!bytes.empty()) std::memcpy(cloud.data(), bytes.data(), bytes.size());
     return cloud;
@@ -140,22 +143,23 @@ std::optional<perception::PointCloud> SweepStore::cloud(std::int64_t id) const {
 }
 
 std::optional<mapping::OccupancyGrid> SweepStore::obstacle_map(std::int64_t id) const {
-  return database_.read([id](const Connection& connection) -> std::optional<mapping::OccupancyGrid> {
-    Statement row = connection.prepare(
-        "SELECT map_width, map_height, map_resolution_m, map_origin_x, map_origin_y, map_cells "
-        "FROM sweeps WHERE id = ? AND status = 'done'");
-    row.bind(1, id);
-    if (!row.step()) return std::nullopt;
-    mapping::OccupancyGrid grid(static_cast<int>(row.column_int64(0)),
-                                static_cast<int>(row.column_int64(1)), row.column_double(2),
-                                {row.column_double(3), row.column_double(4), 0.0});
-    std::vector<std::uint8_t> cells = row.column_blob(5);
-    if (cells.size() != grid.cells().size()) {
-      throw DbError("sweep " + std::to_string(id) + " has a corrupt obstacle map");
-    }
-    grid.mutable_cells() = std::move(cells);
-    return grid;
-  });
+  return database_.read(
+      [id](const Connection& connection) -> std::optional<mapping::OccupancyGrid> {
+        Statement row = connection.prepare(
+            "SELECT map_width, map_height, map_resolution_m, map_origin_x, map_origin_y, map_cells "
+            "FROM sweeps WHERE id = ? AND status = 'done'");
+        row.bind(1, id);
+        if (!row.step()) return std::nullopt;
+        mapping::OccupancyGrid grid(static_cast<int>(row.column_int64(0)),
+                                    static_cast<int>(row.column_int64(1)), row.column_double(2),
+                                    {row.column_double(3), row.column_double(4), 0.0});
+        std::vector<std::uint8_t> cells = row.column_blob(5);
+        if (cells.size() != grid.cells().size()) {
+          throw DbError("sweep " + std::to_string(id) + " has a corrupt obstacle map");
+        }
+        grid.mutable_cells() = std::move(cells);
+        return grid;
+      });
 }
 
 }  // namespace mobot::db

@@ -46,8 +46,8 @@ bool TokenStore::revoke(std::int64_t id) {
 
 int TokenStore::count_admins() const {
   return database_.read([](const Connection& connection) {
-    Statement row = connection.prepare(
-        "SELECT COUNT(*) FROM tokens WHERE role = ? AND revoked = 0");
+    Statement row =
+        connection.prepare("SELECT COUNT(*) FROM tokens WHERE role = ? AND revoked = 0");
     row.bind(1, static_cast<int>(Role::kAdmin));
     row.step();
     return static_cast<int>(row.column_int64(0));

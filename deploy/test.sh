@@ -12,7 +12,22 @@ cd "$ROOT"
 echo "== unit and API tests"
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 300
 
-echo "== reference results in the simulator (ALGORITHMS.md E1 UMBmark, E2 Table 3.3)"
+echo "== thread sanitizer: the api and server unit tests (stream hub, sessions, runtime, stages)"
+# A build of its own: the network threads, the control loop and the workers share no lock, and
+# this keeps it so.
+mkdir -p build-tsan
+if ! cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOBOT_TSAN=ON \
+    -DMOBOT_BUILD_BENCH=OFF >build-tsan/cmake-configure.log 2>&1; then
+  cat build-tsan/cmake-configure.log >&2
+  exit 1
+fi
+cmake --build build-tsan -j"$(nproc)" --target mobot_api_tests mobot_server_tests
+export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
+build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
+build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
+unset TSAN_OPTIONS
+
+echo "== reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3)"
 build/tests/bench/mobot_umbmark
 build/tests/bench/mobot_fusion_table
 

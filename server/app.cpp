@@ -1,5 +1,7 @@
 #include "server/app.h"
 
+#include "server/wall_clock.h"
+
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 
@@ -13,10 +15,6 @@
 
 namespace mobot::server {
 namespace {
-
-double unix_now_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 
 std::filesystem::path web_dir_of(const Config& config) {
   return config.server.web_dir.empty() ? std::filesystem::path(MOBOT_DEFAULT_WEB_DIR)
@@ -87,14 +85,12 @@ App::App(Config config)
   connect_recorder(bus_, *recorder_, config_.recorder.trajectory_rate_hz);
 
   const kinematics::RobotGeometry geometry = backend->geometry();
-  robot_ = std::make_unique<RobotAssembly>(config_, bus_, std::move(backend),
-                                           [this](SweepOutcome outcome) {
-                                             sweeps_->on_outcome(std::move(outcome));
-                                           });
-  sweeps_ = std::make_unique<Sweeps>(config_.sweeps, SweepRobot{geometry.height_m,
-                                                                geometry.footprint_width_m},
-                                     sweep_store_, run_id, robot_->runtime(), bus_,
-                                     robot_->sweep_layer(), robot_->planning());
+  robot_ = std::make_unique<RobotAssembly>(
+      config_, bus_, std::move(backend),
+      [this](SweepOutcome outcome) { sweeps_->on_outcome(std::move(outcome)); });
+  sweeps_ = std::make_unique<Sweeps>(
+      config_.sweeps, SweepRobot{geometry.height_m, geometry.footprint_width_m}, sweep_store_,
+      run_id, robot_->runtime(), bus_, robot_->sweep_layer(), robot_->planning());
   if (robot_->backend().drivers().tilt) sweeps_->set_stage(robot_->sweep());
   Runtime& runtime = robot_->runtime();
   control_ = std::make_unique<ControlService>(

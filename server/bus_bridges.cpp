@@ -17,7 +17,8 @@ void connect_stream_hub(Bus& bus, api::StreamHub& hub) {
       [&hub](const SonarSample& sample) { hub.publish_sonar(sample.ring, sample.base_in_map); });
   bus.map.subscribe(
       [&hub](const MapSample& sample) { hub.publish_map(sample.t_s, sample.grid, sample.map_id); });
-  bus.status.subscribe([&hub](const api::RobotSnapshot& snapshot) { hub.publish_status(snapshot); });
+  bus.status.subscribe(
+      [&hub](const api::RobotSnapshot& snapshot) { hub.publish_status(snapshot); });
   bus.events.subscribe(
       [&hub](const EventSample& event) { hub.publish_event(event.t_s, event.kind, event.detail); });
   bus.truth.subscribe([&hub](const api::SimTruth& truth) { hub.publish_truth(truth); });

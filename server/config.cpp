@@ -103,10 +103,11 @@ void reject_unknown_keys(const YAML::Node& root) {
   static const std::map<std::string, std::set<std::string>> kKnown{
       {"server", {"bind", "port", "data_dir", "web_dir"}},
       {"robot",
-       {"name", "profile", "kinematics", "control_rate_hz", "realtime_priority", "laser_rate_hz", "sonar_rate_hz",
-        "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms"}},
+       {"name", "profile", "kinematics", "control_rate_hz", "realtime_priority", "laser_rate_hz",
+        "sonar_rate_hz", "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms"}},
       {"limits",
-       {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2"}},
+       {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2",
+        "max_angular_accel_radps2"}},
       {"sim", {"world", "worlds_dir", "seed", "time_scale"}},
       {"odometry", {"left_wheel_radius_m", "right_wheel_radius_m", "track_m"}},
       {"localization", {"method"}},
@@ -118,9 +119,8 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"stream", {"max_frames_per_topic"}},
   };
   // Plugin sections: each plugin checks its own keys (server/plugins).
-  static const std::set<std::string> kScalars{"backend",     "run_name",   "mux",
-                                              "planners",    "controllers", "estimators",
-                                              "kinematics"};
+  static const std::set<std::string> kScalars{"backend",     "run_name",   "mux",       "planners",
+                                              "controllers", "estimators", "kinematics"};
   for (const auto& entry : root) {
     const auto key = entry.first.as<std::string>();
     if (kScalars.contains(key)) continue;
@@ -226,8 +226,7 @@ void validate_config(const Config& config) {
     throw ConfigError("backend: '" + config.backend + "' is not one of sim, hardware");
   }
   check_range("sim.time_scale", config.sim.time_scale, 0.1, 100.0);
-  check_range("robot.laser_rate_hz", config.robot.laser_rate_hz, 1.0,
-              config.robot.control_rate_hz);
+  check_range("robot.laser_rate_hz", config.robot.laser_rate_hz, 1.0, config.robot.control_rate_hz);
   // The names the config selects and every plugin's own section; the geometry only matters
   // when instances are made.
   configure_plugins(builtin_plugins(), config, kinematics::RobotGeometry{});

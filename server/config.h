@@ -48,7 +48,7 @@ struct SimSection {
 };
 
 // Wheel geometry odometry integrates with. Unset (0) means the robot profile's nominal values;
-// tests/bench/umbmark_runs.cpp (UMBmark, ALGORITHMS.md E1) prints calibrated ones for here.
+// tests/bench/umbmark_runs.cpp (UMBmark, docs/algorithms.md E1) prints calibrated ones for here.
 struct OdometrySection {
   double left_wheel_radius_m = 0.0;
   double right_wheel_radius_m = 0.0;
@@ -64,12 +64,12 @@ struct LocalizationSection {
 struct NavigationSection {
   double goal_tolerance_m = 0.05;
   double goal_tolerance_rad = 0.05;
-  double max_linear_mps = 0.6;  // cruise cap while following a path (<= limits.max_linear_mps)
+  double max_linear_mps = 0.6;       // cruise cap while following a path (<= limits.max_linear_mps)
   double inscribed_radius_m = 0.42;  // R1: the 0.6 x 0.6 m footprint turning in place
   double avoidance_distance_m = 0.7;  // C4's d0
 };
 
-// 3D sweeps with the tilting laser and their IPaBD obstacle maps (ALGORITHMS.md R1, P1, P2).
+// 3D sweeps with the tilting laser and their IPaBD obstacle maps (docs/algorithms.md R1, P1, P2).
 struct SweepsSection {
   // The IPaBD results merge into the planning map as the 3D-obstacle layer; false plans on the 2D
   // map alone (the "2D trap" of P2: a beam under the robot's height is invisible to it).

@@ -1,13 +1,13 @@
 #include "server/control_loop.h"
 
-#include <boost/asio/post.hpp>
 #include <pthread.h>
 #include <sched.h>
 #include <spdlog/spdlog.h>
+#include <boost/asio/post.hpp>
 
-#include <cstring>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "api/prometheus_text.h"
 
@@ -57,7 +57,9 @@ void ControlLoop::raise_priority() {
   realtime_ = true;
 }
 
-void ControlLoop::post(std::function<void()> handler) { boost::asio::post(io_, std::move(handler)); }
+void ControlLoop::post(std::function<void()> handler) {
+  boost::asio::post(io_, std::move(handler));
+}
 
 void ControlLoop::run_ready() {
   io_.poll();
@@ -114,7 +116,8 @@ void ControlLoop::on_timer() {
 void ControlLoop::note_lateness(Clock::duration lateness) {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(lateness).count();
   const auto bin = std::min<std::int64_t>(
-      std::max<std::int64_t>(0, static_cast<std::int64_t>(static_cast<double>(ns) * 1e-9 / kLatenessBin_s)),
+      std::max<std::int64_t>(
+          0, static_cast<std::int64_t>(static_cast<double>(ns) * 1e-9 / kLatenessBin_s)),
       kLatenessBins - 1);
   lateness_bins_[static_cast<std::size_t>(bin)].fetch_add(1, std::memory_order_relaxed);
   if (ns > max_lateness_ns_.load(std::memory_order_relaxed)) max_lateness_ns_ = ns;

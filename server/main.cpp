@@ -1,7 +1,7 @@
 // mobotd: the mobot robot server. See README.md and docs/api.md for the flags and the API.
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include <filesystem>
 #include <iostream>
@@ -49,7 +49,8 @@ mobot::server::Config make_config(const Flags& flags) {
 int main(int argc, char** argv) {
   CLI::App cli{"mobotd: runs a mobile robot (or its simulation) and serves it to the web"};
   Flags flags;
-  cli.add_option("--config", flags.config_file, "YAML config file (default deploy/config/default.yaml)")
+  cli.add_option("--config", flags.config_file,
+                 "YAML config file (default deploy/config/default.yaml)")
       ->check(CLI::ExistingFile);
   cli.add_option("--backend", flags.backend, "sim or hardware")
       ->check(CLI::IsMember({"sim", "hardware"}));

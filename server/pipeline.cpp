@@ -28,35 +28,32 @@ std::vector<std::string> Pipeline::names() const {
 }
 
 std::string Pipeline::metrics_text() const {
+  const auto ticks = ticks_->load(std::memory_order_relaxed);
   std::string out;
+  append_per_stage(out, "mobot_stage_seconds_mean", "Mean time of one control-tick stage.",
+                   [ticks](const Timing& timing) {
+                     return ticks == 0 ? 0.0
+                                       : static_cast<double>(timing.total_ns.load()) /
+                                             static_cast<double>(ticks) / 1e9;
+                   });
+  append_per_stage(
+      out, "mobot_stage_seconds_max", "Longest time of one control-tick stage.",
+      [](const Timing& timing) { return static_cast<double>(timing.max_ns.load()) / 1e9; });
+  return out;
+}
+
+void Pipeline::append_per_stage(std::string& out, std::string_view name, std::string_view help,
+                                const std::function<double(const Timing&)>& value) const {
   bool first = true;
   for (const auto& entry : stages_) {
     const std::string labels = "stage=\"" + std::string(entry.stage->name()) + "\"";
-    const auto ticks = ticks_->load(std::memory_order_relaxed);
-    const double mean_s = ticks == 0 ? 0.0
-                                     : static_cast<double>(entry.timing->total_ns.load()) /
-                                           static_cast<double>(ticks) / 1e9;
     if (first) {
-      api::append_metric(out, "mobot_stage_seconds_mean", "gauge",
-                         "Mean time of one control-tick stage.", mean_s, labels);
+      api::append_metric(out, name, "gauge", help, value(*entry.timing), labels);
     } else {
-      api::append_sample(out, "mobot_stage_seconds_mean", mean_s, labels);
+      api::append_sample(out, name, value(*entry.timing), labels);
     }
     first = false;
   }
-  first = true;
-  for (const auto& entry : stages_) {
-    const std::string labels = "stage=\"" + std::string(entry.stage->name()) + "\"";
-    const double max_s = static_cast<double>(entry.timing->max_ns.load()) / 1e9;
-    if (first) {
-      api::append_metric(out, "mobot_stage_seconds_max", "gauge",
-                         "Longest time of one control-tick stage.", max_s, labels);
-    } else {
-      api::append_sample(out, "mobot_stage_seconds_max", max_s, labels);
-    }
-    first = false;
-  }
-  return out;
 }
 
 }  // namespace mobot::server

@@ -3,8 +3,10 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "server/stage.h"
@@ -36,8 +38,12 @@ class Pipeline {
     std::unique_ptr<Stage> stage;
     std::unique_ptr<Timing> timing;
   };
+  void append_per_stage(std::string& out, std::string_view name, std::string_view help,
+                        const std::function<double(const Timing&)>& value) const;
+
   std::vector<Entry> stages_;
-  std::unique_ptr<std::atomic<std::uint64_t>> ticks_ = std::make_unique<std::atomic<std::uint64_t>>(0);
+  std::unique_ptr<std::atomic<std::uint64_t>> ticks_ =
+      std::make_unique<std::atomic<std::uint64_t>>(0);
 };
 
 }  // namespace mobot::server

@@ -5,7 +5,6 @@
 
 #include <spdlog/spdlog.h>
 
-
 namespace mobot::server {
 
 PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options,
@@ -46,10 +45,9 @@ std::shared_ptr<const planning::PlanningGrid> PlanningWorker::static_grid() cons
   return static_grid_;
 }
 
-void PlanningWorker::plan(const geometry::Pose2D& start, const geometry::Pose2D& goal,
-                          const std::string& planner,
-                          std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map,
-                          Done done) {
+void PlanningWorker::plan(
+    const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
+    std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map, Done done) {
   boost::asio::post(pool_, [this, start, goal, planner, extra = std::move(extra_obstacles_in_map),
                             done = std::move(done)] {
     Outcome outcome;

@@ -56,11 +56,12 @@ class PlanningWorker {
   // Plans on the worker thread and calls `done` there with the outcome. `planner` must be a name
   // the plugin set knows (the caller checks).
   void plan(const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
-            std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map, Done done);
+            std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map,
+            Done done);
   // The same, for a caller that polls.
-  std::future<Outcome> plan(const geometry::Pose2D& start, const geometry::Pose2D& goal,
-                            const std::string& planner,
-                            std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map);
+  std::future<Outcome> plan(
+      const geometry::Pose2D& start, const geometry::Pose2D& goal, const std::string& planner,
+      std::shared_ptr<const std::vector<geometry::Point2D>> extra_obstacles_in_map);
 
  private:
   Outcome plan_now(const geometry::Pose2D& start, const geometry::Pose2D& goal,

@@ -122,9 +122,9 @@ void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
   ++generation_;
   flushed_.notify_all();
   std::vector<Waiter> ready;
-  const auto first_waiting = std::stable_partition(waiters_.begin(), waiters_.end(), [&](const Waiter& w) {
-    return w.generation <= generation_;
-  });
+  const auto first_waiting =
+      std::stable_partition(waiters_.begin(), waiters_.end(),
+                            [&](const Waiter& w) { return w.generation <= generation_; });
   ready.assign(std::make_move_iterator(waiters_.begin()), std::make_move_iterator(first_waiting));
   waiters_.erase(waiters_.begin(), first_waiting);
   if (ready.empty()) return;
@@ -136,8 +136,8 @@ void Recorder::write_batch(std::unique_lock<std::mutex>& lock) {
 std::string Recorder::metrics_text() const {
   std::lock_guard lock(mutex_);
   std::string out;
-  api::append_metric(out, "mobot_recorder_batches_total", "counter",
-                     "Batches committed to SQLite.", static_cast<double>(batches_written_));
+  api::append_metric(out, "mobot_recorder_batches_total", "counter", "Batches committed to SQLite.",
+                     static_cast<double>(batches_written_));
   api::append_metric(out, "mobot_recorder_samples_total", "counter",
                      "Trajectory samples committed.", static_cast<double>(samples_written_));
   api::append_metric(out, "mobot_recorder_write_failures_total", "counter",

@@ -16,7 +16,9 @@ namespace {
 // errors stay in the odometry until a UMBmark calibration measures them.
 estimation::OdometryParams odometry_params(const OdometrySection& calibrated,
                                            const kinematics::RobotGeometry& geometry) {
-  const auto or_nominal = [](double value, double nominal) { return value > 0.0 ? value : nominal; };
+  const auto or_nominal = [](double value, double nominal) {
+    return value > 0.0 ? value : nominal;
+  };
   return {or_nominal(calibrated.left_wheel_radius_m, geometry.wheel_radius_m),
           or_nominal(calibrated.right_wheel_radius_m, geometry.wheel_radius_m),
           or_nominal(calibrated.track_m, geometry.track_m), geometry.ticks_per_wheel_rev};
@@ -83,11 +85,11 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   Pipeline pipeline;
   pipeline.add(std::make_unique<AdvanceStage>(*backend_));
   pipeline.add(std::make_unique<ReadDriversStage>(drivers));
-  estimate_ = &pipeline.add(std::make_unique<EstimateStage>(
-      odometry_params(config.odometry, backend_->geometry()),
-      plugins_.estimators.make(config.localization.method), start));
-  pipeline.add(std::make_unique<PerceiveStage>(
-      [this] { return planning_->static_grid(); }, config.navigation.inscribed_radius_m));
+  estimate_ = &pipeline.add(
+      std::make_unique<EstimateStage>(odometry_params(config.odometry, backend_->geometry()),
+                                      plugins_.estimators.make(config.localization.method), start));
+  pipeline.add(std::make_unique<PerceiveStage>([this] { return planning_->static_grid(); },
+                                               config.navigation.inscribed_radius_m));
   if (drivers.tilt) {
     sweep_ = &pipeline.add(std::make_unique<SweepStage>(*drivers.tilt, std::move(on_sweep)));
   }

@@ -11,7 +11,8 @@ Runtime::Runtime(Bus& bus, Pipeline pipeline, double period_s, std::string kinem
       period_s_(period_s),
       kinematics_(std::move(kinematics)),
       context_(bus),
-      loop_(period_s, [this] { tick(); }, realtime_priority) {
+      loop_(
+          period_s, [this] { tick(); }, realtime_priority) {
   publish_state();
 }
 

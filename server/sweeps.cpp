@@ -1,9 +1,11 @@
 #include "server/sweeps.h"
 
+#include "server/wall_clock.h"
+
+#include <spdlog/spdlog.h>
 #include <boost/asio/post.hpp>
 #include <chrono>
 #include <numbers>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include "core/perception/ipabd.h"
@@ -11,10 +13,6 @@
 
 namespace mobot::server {
 namespace {
-
-double unix_now_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 
 api::SweepInfo to_info(const db::SweepRecord& record) {
   api::SweepInfo info;
@@ -45,8 +43,7 @@ Sweeps::Sweeps(const SweepsSection& options, SweepRobot robot, db::SweepStore& s
       layer_(layer),
       planning_(planning) {
   if (const int interrupted = store_.fail_interrupted("interrupted"); interrupted > 0) {
-    spdlog::warn("{} 3D sweep(s) of an earlier process never finished: marked failed",
-                 interrupted);
+    spdlog::warn("{} 3D sweep(s) of an earlier process never finished: marked failed", interrupted);
   }
 }
 
@@ -70,9 +67,9 @@ void Sweeps::start_sweep(const api::SweepRequest& request, api::Completion<api::
   }
   std::lock_guard lock(mutex_);
   if (running_) {
-    return done(api::DomainError{api::ErrorKind::kConflict, "sweep_running",
-                                 "3D sweep " + std::to_string(*running_) +
-                                     " is running: wait until it is done"});
+    return done(api::DomainError{
+        api::ErrorKind::kConflict, "sweep_running",
+        "3D sweep " + std::to_string(*running_) + " is running: wait until it is done"});
   }
   const double now_s = runtime_.state()->robot.t_s;
   const std::int64_t id = store_.insert_running(mode->period_s, mode->step_deg, mode->scans, now_s,
@@ -90,9 +87,8 @@ void Sweeps::start_sweep(const api::SweepRequest& request, api::Completion<api::
     }
     record(context.now_s, id, "running",
            {{"period_s", mode.period_s}, {"step_deg", mode.step_deg}, {"scans", mode.scans}});
-    context.then([this, id, done = std::move(done)]() mutable {
-      done(with_progress(*store_.get(id)));
-    });
+    context.then(
+        [this, id, done = std::move(done)]() mutable { done(with_progress(*store_.get(id))); });
   });
 }
 
@@ -126,7 +122,8 @@ void Sweeps::finish(const SweepOutcome& outcome) {
       const perception::IpabdResult result =
           perception::run_ipabd(outcome.cloud, outcome.origin_in_map, ipabd);
       std::optional<int> layer_cells;
-      if (options_.obstacle_layer) layer_cells = merge_layer(result.obstacles, outcome.map_generation);
+      if (options_.obstacle_layer)
+        layer_cells = merge_layer(result.obstacles, outcome.map_generation);
       conclude(outcome.id,
                [&] { store_.finish(outcome.id, outcome.ended_s, outcome.cloud, result.dilated); });
       nlohmann::json detail{{"points", outcome.cloud.size()},
@@ -158,8 +155,7 @@ std::optional<int> Sweeps::merge_layer(const mapping::OccupancyGrid& observed,
                                      mapping::OccupancyGrid::kOccupied));
 }
 
-void Sweeps::record(double t_s, std::int64_t id, const std::string& status,
-                    nlohmann::json detail) {
+void Sweeps::record(double t_s, std::int64_t id, const std::string& status, nlohmann::json detail) {
   detail["id"] = id;
   detail["status"] = status;
   bus_.events.publish({t_s, "sweep", std::move(detail)});
@@ -193,12 +189,14 @@ std::optional<api::SweepInfo> Sweeps::find_sweep(std::int64_t id) const {
 
 void Sweeps::require_done(std::int64_t id) const {
   const auto record = store_.get(id);
-  if (!record) throw api::DomainException(api::ErrorKind::kNotFound, "unknown_sweep", "no 3D sweep " + std::to_string(id));
+  if (!record)
+    throw api::DomainException(api::ErrorKind::kNotFound, "unknown_sweep",
+                               "no 3D sweep " + std::to_string(id));
   if (record->status != "done") {
     throw api::DomainException(api::ErrorKind::kConflict, "sweep_not_done",
-                        "3D sweep " + std::to_string(id) + " is " + record->status +
-                            (record->reason.empty() ? "" : " (" + record->reason + ")") +
-                            ": it has no cloud");
+                               "3D sweep " + std::to_string(id) + " is " + record->status +
+                                   (record->reason.empty() ? "" : " (" + record->reason + ")") +
+                                   ": it has no cloud");
   }
 }
 
@@ -217,10 +215,12 @@ void Sweeps::delete_sweep(std::int64_t id) {
     case db::SweepStore::RemoveResult::kRemoved:
       return;
     case db::SweepStore::RemoveResult::kNotFound:
-      throw api::DomainException(api::ErrorKind::kNotFound, "unknown_sweep", "no 3D sweep " + std::to_string(id));
+      throw api::DomainException(api::ErrorKind::kNotFound, "unknown_sweep",
+                                 "no 3D sweep " + std::to_string(id));
     case db::SweepStore::RemoveResult::kRunning:
-      throw api::DomainException(api::ErrorKind::kConflict, "sweep_running",
-                          "3D sweep " + std::to_string(id) + " is running: wait until it is done");
+      throw api::DomainException(
+          api::ErrorKind::kConflict, "sweep_running",
+          "3D sweep " + std::to_string(id) + " is running: wait until it is done");
   }
 }
 

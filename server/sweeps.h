@@ -31,9 +31,8 @@ struct SweepRobot {
 // that is on disk.
 class Sweeps final : public api::SweepsPort {
  public:
-  Sweeps(const SweepsSection& options, SweepRobot robot, db::SweepStore& store,
-         std::int64_t run_id, Runtime& runtime, Bus& bus, SweepLayer& layer,
-         PlanningWorker& planning);
+  Sweeps(const SweepsSection& options, SweepRobot robot, db::SweepStore& store, std::int64_t run_id,
+         Runtime& runtime, Bus& bus, SweepLayer& layer, PlanningWorker& planning);
   ~Sweeps() override;
   Sweeps(const Sweeps&) = delete;
   Sweeps& operator=(const Sweeps&) = delete;
@@ -74,7 +73,7 @@ class Sweeps final : public api::SweepsPort {
   PlanningWorker& planning_;
   SweepStage* stage_ = nullptr;
 
-  mutable std::mutex mutex_;  // guards running_ and serialises start()
+  mutable std::mutex mutex_;             // guards running_ and serialises start()
   std::optional<std::int64_t> running_;  // accepted and not yet done or failed
   boost::asio::thread_pool pool_{1};     // IPaBD and the final write, off the control loop
 };

@@ -124,8 +124,12 @@ struct TickContext {
 
   // Requests to the mux from the stages before it.
   std::vector<MuxRequest> mux_requests;
-  // A stage that stops the robot at once (a contact): the smoother drops its ramp.
+  // A stage that stops the robot at once (a contact): the mux drops every command and the
+  // smoother its ramp.
   bool halt = false;
+  // The smoother drops its ramp at its next step: set by whatever dropped the commands (a stage,
+  // or a command between ticks: an e-stop, a reset), cleared by the smooth stage.
+  bool halt_smoother = false;
 
   // mux
   bool estop = false;

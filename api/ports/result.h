@@ -15,7 +15,7 @@ struct Done {};
 template <class T>
 class Result {
  public:
-  Result(T value) : outcome_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(T value) : outcome_(std::move(value)) {}            // NOLINT(google-explicit-constructor)
   Result(DomainError error) : outcome_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
 
   bool ok() const { return std::holds_alternative<T>(outcome_); }

@@ -26,7 +26,8 @@ class TokenAdminPort {
 
   virtual std::optional<Role> authenticate(std::string_view token) = 0;
   // Returns the id and the plain token, shown only once.
-  virtual std::pair<std::int64_t, std::string> create_token(Role role, const std::string& label) = 0;
+  virtual std::pair<std::int64_t, std::string> create_token(Role role,
+                                                            const std::string& label) = 0;
   virtual std::vector<TokenInfo> list_tokens() const = 0;
   virtual bool revoke_token(std::int64_t id) = 0;
 };

@@ -17,7 +17,8 @@ struct MuxSource {
   double timeout_s = 1.0;
 };
 
-// ALGORITHMS.md C6: priority arbitration with time-outs (safety > IR safety > teleop > navigation).
+// docs/algorithms.md C6: priority arbitration with time-outs (safety > IR safety > teleop >
+// navigation).
 class CommandMux {
  public:
   struct Selection {

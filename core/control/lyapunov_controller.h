@@ -58,7 +58,7 @@ PolarError polar_error(const geometry::Pose2D& pose, const geometry::Pose2D& goa
 
 enum class LyapunovLaw { kGlobal, kLocal };
 
-// ALGORITHMS.md C2: Lyapunov point stabilisation of a unicycle to a goal pose.
+// docs/algorithms.md C2: Lyapunov point stabilisation of a unicycle to a goal pose.
 // Global law: v = k_v rho cos(alpha), w = k_alpha alpha + k_v (sin(alpha) cos(alpha) / alpha)
 // (alpha + h phi). Local law (rho < eps_rho): v = k_v rho cos(alpha), w = -k_theta th_e.
 // Both outputs are clamped to the speed limits. The instance latches the active law and the

@@ -25,7 +25,7 @@ struct TrackerStatus {
 };
 
 // A path-following controller in the Nav2 sense: one implementation per algorithm, chosen by name
-// (CONTRACT.md's "controller" field). compute() runs once per control tick (50 Hz in the server)
+// (docs/api.md's "controller" field). compute() runs once per control tick (50 Hz in the server)
 // with the localised pose in the map frame and the measured body velocity; it must be cheap and
 // never block.
 class PathTracker {

@@ -35,13 +35,13 @@ struct SonarObstacle {
   double bearing_rad = 0.0;  // of the echo point from the robot centre, relative to the heading
 };
 
-// ALGORITHMS.md C4: potential-field avoidance with the sonar ring, used by the navigation loop in
-// place of the path tracker while an obstacle is within d0 in front of the robot.
-// Attractive: v_att = -k_att [(x - xg) cos th + (y - yg) sin th], w = -k_att (th - th_steer).
-// Repulsive, per echo at d_i < d0 within the sector: k_rep (1/d_i - 1/d0) / d_i^2 away from the
-// echo; its component along the heading slows (or stops) the robot. th_steer is the goal bearing,
-// or with obstacles in the sector the goal bearing +/- steer_offset_rad away from the side holding
-// more repulsion. Everything is clamped to the limits.
+// docs/algorithms.md C4: potential-field avoidance with the sonar ring, used by the navigation loop
+// in place of the path tracker while an obstacle is within d0 in front of the robot. Attractive:
+// v_att = -k_att [(x - xg) cos th + (y - yg) sin th], w = -k_att (th - th_steer). Repulsive, per
+// echo at d_i < d0 within the sector: k_rep (1/d_i - 1/d0) / d_i^2 away from the echo; its
+// component along the heading slows (or stops) the robot. th_steer is the goal bearing, or with
+// obstacles in the sector the goal bearing +/- steer_offset_rad away from the side holding more
+// repulsion. Everything is clamped to the limits.
 class PotentialFieldAvoider {
  public:
   struct Output {

@@ -33,8 +33,8 @@ struct LineUpdateReport {
   std::vector<LineMatch> matches;
 };
 
-// EKF localisation of a differential base in a known map (ALGORITHMS.md E2). State (x, y, theta)
-// in the map frame and its 3x3 covariance. Odometry drives the prediction; compass headings,
+// EKF localisation of a differential base in a known map (docs/algorithms.md E2). State (x, y,
+// theta) in the map frame and its 3x3 covariance. Odometry drives the prediction; compass headings,
 // laser line features and landmark bearings are independent updates that may be used in any
 // combination and order. Each call either applies completely or, with a status saying why,
 // leaves the filter untouched. Pure and deterministic: time only enters through the wheel travel.

@@ -10,7 +10,7 @@
 
 namespace mobot::estimation {
 
-// ALGORITHMS.md E3 defaults ("chosen" in the source: keep them configurable). The wheelbase is
+// docs/algorithms.md E3 defaults ("chosen" in the source: keep them configurable). The wheelbase is
 // R3's d = sqrt(3.4) m.
 struct LandmarkEkfOptions {
   double wheelbase_m = 1.8439088914585775;
@@ -30,8 +30,8 @@ struct RangeBearingObservation {
   double bearing_rad = 0.0;
 };
 
-// EKF of a type 2 tricycle with range-bearing observations of known landmarks (ALGORITHMS.md E3),
-// generalised from two landmarks to any number: z = [r_1, b_1, ..., r_N, b_N] in one stacked
+// EKF of a type 2 tricycle with range-bearing observations of known landmarks (docs/algorithms.md
+// E3), generalised from two landmarks to any number: z = [r_1, b_1, ..., r_N, b_N] in one stacked
 // update with R = diag(s_r^2, s_b^2, ...), bearings by atan2 with wrapped innovations.
 // Each call either applies completely or reports why it left the filter untouched.
 class LandmarkEkf {

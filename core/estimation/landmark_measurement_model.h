@@ -13,7 +13,7 @@ struct ScalarMeasurementPrediction {
   Eigen::RowVector3d h = Eigen::RowVector3d::Zero();
 };
 
-// Bearing of the landmark from the base, relative to its heading (ALGORITHMS.md E2 set 3, E3):
+// Bearing of the landmark from the base, relative to its heading (docs/algorithms.md E2 set 3, E3):
 // g = atan2(y_m - y, x_m - x) - theta, wrapped; H = [(y_m - y)/d^2, -(x_m - x)/d^2, -1].
 // nullopt when the pose sits on the landmark (the bearing is undefined there).
 std::optional<ScalarMeasurementPrediction> predict_bearing(const geometry::Pose2D& pose,

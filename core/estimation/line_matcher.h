@@ -10,7 +10,7 @@
 namespace mobot::estimation {
 
 struct LineMatcherOptions {
-  // Hard gates on the innovation (ALGORITHMS.md E2's |d rho|, |d psi| thresholds).
+  // Hard gates on the innovation (docs/algorithms.md E2's |d rho|, |d psi| thresholds).
   double gate_rho_m = 0.5;
   double gate_alpha_rad = 0.35;
   // Mahalanobis gate on (d rho, d psi): chi-square with 2 dof, 99 %.

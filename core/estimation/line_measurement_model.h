@@ -14,8 +14,8 @@ struct LineMeasurementPrediction {
   Eigen::Matrix<double, 2, 3> h = Eigen::Matrix<double, 2, 3>::Zero();
 };
 
-// ALGORITHMS.md E2: C = rho - x cos(beta) - y sin(beta), r = |C|, psi = beta - theta (+ pi when
-// C < 0), wrapped; H = [[-sign(C) cos(beta), -sign(C) sin(beta), 0], [0, 0, -1]].
+// docs/algorithms.md E2: C = rho - x cos(beta) - y sin(beta), r = |C|, psi = beta - theta (+ pi
+// when C < 0), wrapped; H = [[-sign(C) cos(beta), -sign(C) sin(beta), 0], [0, 0, -1]].
 LineMeasurementPrediction predict_line_measurement(const geometry::Pose2D& pose,
                                                    const perception::LineSegment& map_line);
 

@@ -6,15 +6,16 @@
 
 namespace mobot::estimation {
 
-// The encoder noise model of ALGORITHMS.md E2: each wheel's travel has variance proportional to
-// its length, Q = diag(k_right |ds_R|, k_left |ds_L|).
+// The encoder noise model of docs/algorithms.md E2: each wheel's travel has variance proportional
+// to its length, Q = diag(k_right |ds_R|, k_left |ds_L|).
 struct WheelNoise {
   double k_right = 0.0003;
   double k_left = 0.0003;
 };
 
 // Jacobians of the E1 odometry step at the mid-step heading: A = d pose' / d pose and
-// W = d pose' / d (ds_R, ds_L) (columns in that order), exactly as ALGORITHMS.md E2 writes them.
+// W = d pose' / d (ds_R, ds_L) (columns in that order), exactly as docs/algorithms.md E2 writes
+// them.
 struct OdometryJacobians {
   Eigen::Matrix3d a;
   Eigen::Matrix<double, 3, 2> w;

@@ -33,9 +33,9 @@ struct EstimatorInputs {
 };
 
 struct EstimatorCounters {
-  std::uint64_t scan_updates = 0;       // scans fused
-  std::uint64_t features_matched = 0;   // scan features paired with the map
-  std::uint64_t rejected_updates = 0;   // updates refused (gate, NaN)
+  std::uint64_t scan_updates = 0;      // scans fused
+  std::uint64_t features_matched = 0;  // scan features paired with the map
+  std::uint64_t rejected_updates = 0;  // updates refused (gate, NaN)
 };
 
 // The robot's pose in the map frame, from odometry and whatever else the implementation fuses

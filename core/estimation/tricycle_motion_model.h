@@ -8,13 +8,13 @@ namespace mobot::estimation {
 
 // How one prediction step integrates the heading.
 enum class TricycleIntegration {
-  // ALGORITHMS.md E3 as written: explicit Euler, the step follows the heading at its start.
+  // docs/algorithms.md E3 as written: explicit Euler, the step follows the heading at its start.
   kEuler,
   // The step follows the mid-step heading, like E1's odometry: second-order accurate on arcs.
   kMidpoint,
 };
 
-// The prediction model of ALGORITHMS.md E3: a type 2 tricycle (front wheel steers, rear wheels
+// The prediction model of docs/algorithms.md E3: a type 2 tricycle (front wheel steers, rear wheels
 // drive; reference point the rear-axle centre) advanced by one step of dt_s:
 // theta += v dt tan(alpha) / d, x += v dt cos(h), y += v dt sin(h) with h the start heading
 // (kEuler) or the mid-step heading (kMidpoint).

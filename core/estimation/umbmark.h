@@ -39,8 +39,8 @@ struct UmbmarkResult {
   OdometryParams corrected;
 };
 
-// UMBmark calibration (ALGORITHMS.md E1): alpha and beta from the return errors of n clockwise and
-// n counter-clockwise runs (Borenstein's x-error formulas, averaged with the equivalent y-error
+// UMBmark calibration (docs/algorithms.md E1): alpha and beta from the return errors of n clockwise
+// and n counter-clockwise runs (Borenstein's x-error formulas, averaged with the equivalent y-error
 // ones to halve the effect of measurement noise):
 //   alpha = -[(x_cw + x_ccw) + (y_cw - y_ccw)] / 8L,  beta = -[(x_cw - x_ccw) + (y_cw + y_ccw)] /
 //   8L, E_b = (pi/2) / (pi/2 - alpha),  R = (L/2) / sin(beta/2),  E_d = (R + b/2) / (R - b/2)

@@ -22,7 +22,7 @@ struct WheelTravel {
   double right_m = 0.0;
 };
 
-// Dead reckoning from cumulative encoder counts (ALGORITHMS.md E1), in the odom frame.
+// Dead reckoning from cumulative encoder counts (docs/algorithms.md E1), in the odom frame.
 class WheelOdometry {
  public:
   explicit WheelOdometry(const OdometryParams& params, geometry::Pose2D start = {});

@@ -13,9 +13,8 @@ double distance_to_polyline(const std::vector<Point2D>& vertices, Point2D point)
     const double dy = vertices[i + 1].y - vertices[i].y;
     const double length2 = dx * dx + dy * dy;
     const double along =
-        length2 > 0.0
-            ? ((point.x - vertices[i].x) * dx + (point.y - vertices[i].y) * dy) / length2
-            : 0.0;
+        length2 > 0.0 ? ((point.x - vertices[i].x) * dx + (point.y - vertices[i].y) * dy) / length2
+                      : 0.0;
     const double f = std::clamp(along, 0.0, 1.0);
     best = std::min(best,
                     std::hypot(vertices[i].x + f * dx - point.x, vertices[i].y + f * dy - point.y));

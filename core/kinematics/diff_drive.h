@@ -13,8 +13,8 @@ struct WheelSpeeds {
 msgs::Twist twist_from_wheels(const WheelSpeeds& wheels, double track_m);
 WheelSpeeds wheels_from_twist(const msgs::Twist& twist, double track_m);
 
-// ALGORITHMS.md E1: advances a pose by the distances each wheel rolled, using the mid-step heading
-// (exact for straight lines, second-order accurate on arcs).
+// docs/algorithms.md E1: advances a pose by the distances each wheel rolled, using the mid-step
+// heading (exact for straight lines, second-order accurate on arcs).
 geometry::Pose2D integrate_wheel_travel(const geometry::Pose2D& pose, double left_travel_m,
                                         double right_travel_m, double track_m);
 

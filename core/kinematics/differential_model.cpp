@@ -22,9 +22,9 @@ msgs::WheelCommand DifferentialModel::to_wheels(const msgs::Twist& body) const {
 }
 
 msgs::Twist DifferentialModel::to_body(const msgs::WheelCommand& wheels) const {
-  return twist_from_wheels({wheels.left_radps * options_.wheel_radius_m,
-                            wheels.right_radps * options_.wheel_radius_m},
-                           options_.track_m);
+  return twist_from_wheels(
+      {wheels.left_radps * options_.wheel_radius_m, wheels.right_radps * options_.wheel_radius_m},
+      options_.track_m);
 }
 
 }  // namespace mobot::kinematics

@@ -17,7 +17,8 @@ cv::Mat decode_grey(std::span<const std::uint8_t> image_bytes) {
   const cv::Mat encoded(1, static_cast<int>(image_bytes.size()), CV_8UC1,
                         const_cast<std::uint8_t*>(image_bytes.data()));
   cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_UNCHANGED);
-  if (decoded.empty()) throw MapImageError("the image is neither a PGM nor a PNG that can be decoded");
+  if (decoded.empty())
+    throw MapImageError("the image is neither a PGM nor a PNG that can be decoded");
   if (decoded.depth() == CV_16U) decoded.convertTo(decoded, CV_8U, 1.0 / 257.0);
   if (decoded.depth() != CV_8U) throw MapImageError("the image must have 8 or 16 bits per channel");
   cv::Mat grey;
@@ -87,7 +88,8 @@ OccupancyGrid decode_map_image(std::span<const std::uint8_t> image_bytes, double
   for (int row = 0; row < grey.rows; ++row) {
     const auto* pixels = grey.ptr<std::uint8_t>(row);
     const int grid_row = grey.rows - 1 - row;
-    for (int col = 0; col < grey.cols; ++col) grid.set({col, grid_row}, classify(pixels[col], options));
+    for (int col = 0; col < grey.cols; ++col)
+      grid.set({col, grid_row}, classify(pixels[col], options));
   }
   return grid;
 }

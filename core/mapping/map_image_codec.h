@@ -26,7 +26,8 @@ struct MapImageOptions {
 };
 
 // Decodes a PGM or PNG image held in memory (colour is averaged to grey, as map_server does).
-// Pixel p = (255 - v) / 255 (v / 255 when negated): p > occupied_thresh -> occupied, p < free_thresh
+// Pixel p = (255 - v) / 255 (v / 255 when negated): p > occupied_thresh -> occupied, p <
+// free_thresh
 // -> free, otherwise unknown. Image row 0 is the top of the map; grid row 0 is the bottom.
 OccupancyGrid decode_map_image(std::span<const std::uint8_t> image_bytes, double resolution_m,
                                const geometry::Pose2D& origin, const MapImageOptions& options,

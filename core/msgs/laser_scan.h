@@ -6,8 +6,8 @@
 
 namespace mobot::msgs {
 
-// One planar laser scan in the sensor frame. Beam i points at angle_min_rad + i * angle_increment_rad.
-// A range outside [range_min_m, range_max_m] means "no return".
+// One planar laser scan in the sensor frame. Beam i points at angle_min_rad + i *
+// angle_increment_rad. A range outside [range_min_m, range_max_m] means "no return".
 struct LaserScan {
   double stamp_s = 0.0;
   float angle_min_rad = 0.0F;

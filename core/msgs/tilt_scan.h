@@ -6,7 +6,7 @@
 
 namespace mobot::msgs {
 
-// One scan of the nodding laser (ALGORITHMS.md R1, P1). Beam k points at bearing
+// One scan of the nodding laser (docs/algorithms.md R1, P1). Beam k points at bearing
 // bearing_min_rad + k * bearing_step_rad in the scan plane, with bearing pi/2 straight ahead and 0
 // to the right (the SICK convention P1 uses). The scan plane is pitched up by pitch_rad about the
 // sensor's left-right axis. A range outside [range_min_m, range_max_m] means "no return".

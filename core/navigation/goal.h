@@ -10,7 +10,7 @@
 
 namespace mobot::navigation {
 
-// CONTRACT.md's goal lifecycle: planning -> active -> succeeded | failed | canceled.
+// docs/api.md's goal lifecycle: planning -> active -> succeeded | failed | canceled.
 enum class GoalStatus { kPlanning, kActive, kSucceeded, kFailed, kCanceled };
 
 std::string_view to_string(GoalStatus status);

@@ -49,10 +49,10 @@ void GoalNavigator::follow(Goal& goal, const planning::Path& path, double now_s)
 }
 
 bool GoalNavigator::stuck(double now_s, const geometry::Pose2D& pose) {
-  const bool moved =
-      !(std::hypot(pose.x - last_moved_pose_.x, pose.y - last_moved_pose_.y) <
-        options_.stuck_distance_m) ||
-      std::abs(geometry::wrap_angle(pose.theta - last_moved_pose_.theta)) > options_.stuck_angle_rad;
+  const bool moved = !(std::hypot(pose.x - last_moved_pose_.x, pose.y - last_moved_pose_.y) <
+                       options_.stuck_distance_m) ||
+                     std::abs(geometry::wrap_angle(pose.theta - last_moved_pose_.theta)) >
+                         options_.stuck_angle_rad;
   if (moved) {
     last_moved_pose_ = pose;
     last_moved_s_ = now_s;
@@ -66,8 +66,8 @@ void GoalNavigator::end_active(GoalStatus status, const std::string& reason, dou
 }
 
 bool GoalNavigator::cancel(std::int64_t id, double now_s) {
-  const auto it = std::find_if(goals_.begin(), goals_.end(),
-                               [id](const Goal& goal) { return goal.id == id; });
+  const auto it =
+      std::find_if(goals_.begin(), goals_.end(), [id](const Goal& goal) { return goal.id == id; });
   if (it == goals_.end()) return false;
   if (!it->finished()) finish(*it, GoalStatus::kCanceled, "canceled", now_s);
   return true;
@@ -80,8 +80,7 @@ void GoalNavigator::replan(std::int64_t id, const planning::Path& path, double n
   follow(*goal, path, now_s);
 }
 
-void GoalNavigator::finish(Goal& goal, GoalStatus status, const std::string& reason,
-                           double now_s) {
+void GoalNavigator::finish(Goal& goal, GoalStatus status, const std::string& reason, double now_s) {
   goal.status = status;
   goal.reason = status == GoalStatus::kSucceeded ? "" : reason;
   goal.ended_s = now_s;

@@ -34,8 +34,8 @@ struct GoalNavigatorOptions {
   double stuck_angle_rad = 0.1;
 };
 
-// The navigation loop of ALGORITHMS.md (Fig. 2.20) for one goal at a time: track the planned path
-// with the goal's controller, hand over to sonar potential-field avoidance when something is
+// The navigation loop of docs/algorithms.md (Fig. 2.20) for one goal at a time: track the planned
+// path with the goal's controller, hand over to sonar potential-field avoidance when something is
 // within d0 ahead and back once clear, ask for a replan when the path stays blocked, and keep the
 // goal lifecycle. Pure: the planner runs elsewhere and time is an argument.
 class GoalNavigator {

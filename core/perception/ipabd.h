@@ -11,7 +11,7 @@
 
 namespace mobot::perception {
 
-// ALGORITHMS.md P2, "image pressure and barrier detection": a 3D cloud becomes the 2D obstacle
+// docs/algorithms.md P2, "image pressure and barrier detection": a 3D cloud becomes the 2D obstacle
 // map of what the robot would hit.
 struct IpabdOptions {
   // Step 1: points higher than the robot pass over it; points within the tolerance of the floor

@@ -7,8 +7,8 @@
 
 namespace mobot::perception {
 
-// Every knob of the scan line extractor (ALGORITHMS.md E2), defaults tuned for a SICK LMS2xx at
-// 0.5-1 deg resolution in an office.
+// Every knob of the scan line extractor (docs/algorithms.md E2), defaults tuned for a SICK LMS2xx
+// at 0.5-1 deg resolution in an office.
 struct LineExtractorOptions {
   // Range noise of one beam: sigma = range_sigma_m + range_sigma_fraction * range.
   double range_sigma_m = 0.01;

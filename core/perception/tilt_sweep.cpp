@@ -6,7 +6,7 @@
 namespace mobot::perception {
 namespace {
 
-// ALGORITHMS.md R1, Table 2.1.
+// docs/algorithms.md R1, Table 2.1.
 constexpr std::array<SweepMode, 6> kTable21{{
     {10.0, 1.0, 81},
     {10.0, 0.5, 40},
@@ -46,7 +46,8 @@ void append_scan(const msgs::TiltScan& scan, const geometry::Pose2D& base_in_map
   for (std::size_t k = 0; k < scan.ranges_m.size(); ++k) {
     const float range_m = scan.ranges_m[k];
     if (!(range_m >= scan.range_min_m && range_m <= scan.range_max_m)) continue;
-    const double bearing_rad = scan.bearing_min_rad + static_cast<double>(k) * scan.bearing_step_rad;
+    const double bearing_rad =
+        scan.bearing_min_rad + static_cast<double>(k) * scan.bearing_step_rad;
     const SensorPoint p = beam_point(range_m, scan.pitch_rad, bearing_rad, scan.sensor_height_m);
     // The sensor's forward (y) is the base's x and its right (x) the base's -y.
     const double forward_m = p.y_m;

@@ -9,8 +9,8 @@
 
 namespace mobot::perception {
 
-// A scan mode of the tilting laser (ALGORITHMS.md R1, Table 2.1): one up-sweep of the pitch range
-// takes period_s, the laser's angular step is step_deg, and that many scans fit in the sweep.
+// A scan mode of the tilting laser (docs/algorithms.md R1, Table 2.1): one up-sweep of the pitch
+// range takes period_s, the laser's angular step is step_deg, and that many scans fit in the sweep.
 struct SweepMode {
   double period_s = 0.0;
   double step_deg = 0.0;

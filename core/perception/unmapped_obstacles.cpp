@@ -49,7 +49,8 @@ bool UnmappedObstacles::echo_is_wall(const msgs::RangeReading& reading,
     const double angle_rad =
         reading.cone_rad * (samples > 1 ? static_cast<double>(k) / (samples - 1) - 0.5 : 0.0);
     if (explained_by_map(geometry::transform_point(
-            sensor, {reading.range_m * std::cos(angle_rad), reading.range_m * std::sin(angle_rad)}))) {
+            sensor,
+            {reading.range_m * std::cos(angle_rad), reading.range_m * std::sin(angle_rad)}))) {
       return true;
     }
   }
@@ -65,7 +66,8 @@ std::vector<msgs::RangeReading> UnmappedObstacles::echoes_on_path(
     msgs::RangeReading echo = reading;
     if (reading.range_m < reading.range_max_m) {
       const geometry::Pose2D sensor = geometry::compose(base_in_map, reading.sensor_in_base);
-      const geometry::Point2D axis_point = geometry::transform_point(sensor, {reading.range_m, 0.0});
+      const geometry::Point2D axis_point =
+          geometry::transform_point(sensor, {reading.range_m, 0.0});
       // A wall on the map, or something the path already keeps clear of, is the planner's
       // business; the potential field is for what stands on the path and the map does not show.
       if (echo_is_wall(reading, sensor) ||

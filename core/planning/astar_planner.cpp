@@ -7,8 +7,8 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/planning/grid_steps.h"
 #include "core/planning/grid_search.h"
+#include "core/planning/grid_steps.h"
 
 namespace mobot::planning {
 namespace {
@@ -209,7 +209,6 @@ void AStarPlanner::begin_search(std::size_t cell_count, double resolution) {
   }
 }
 
-
 bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
                           mapping::CellIndex goal, PlanResult& result) {
   const int width = grid.width();
@@ -241,9 +240,9 @@ bool AStarPlanner::search(const PlanningGrid& grid, mapping::CellIndex start,
   open_.reset(h0, span, res);
   open_.push(h0, h0, start_index);
 
-  // Relaxes step kGridSteps[step] from the cell being expanded, at g, to cell (nx, ny) at flat index
-  // `next`. The closed test comes first: it is the most frequent way out (half the calls on the
-  // maze) and needs no arithmetic. (always_inline: GCC otherwise calls it from its eight sites,
+  // Relaxes step kGridSteps[step] from the cell being expanded, at g, to cell (nx, ny) at flat
+  // index `next`. The closed test comes first: it is the most frequent way out (half the calls on
+  // the maze) and needs no arithmetic. (always_inline: GCC otherwise calls it from its eight sites,
   // 30 % more instructions on the maze benchmark.)
   const auto relax = [&](double g, unsigned step, int nx, int ny, std::uint32_t next,
                          const double* step_cost) __attribute__((always_inline)) {

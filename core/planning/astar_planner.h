@@ -20,11 +20,12 @@ struct AStarOptions {
   double max_escape_distance_m = 0.5;
 };
 
-// ALGORITHMS.md C1: A* on the planning grid, 8-connected, octile heuristic, no corner cutting (a
-// diagonal step needs both side cells traversable). The heuristic is the octile distance in metres,
-// which never overestimates because every step costs at least its length, so paths are optimal for
-// the cost model above. A bucketed open list and 10 bytes of search state per cell in flat arrays
-// keep a search through a 1000 x 1000 maze within the 50 ms target (see astar_planner.cpp).
+// docs/algorithms.md C1: A* on the planning grid, 8-connected, octile heuristic, no corner cutting
+// (a diagonal step needs both side cells traversable). The heuristic is the octile distance in
+// metres, which never overestimates because every step costs at least its length, so paths are
+// optimal for the cost model above. A bucketed open list and 10 bytes of search state per cell in
+// flat arrays keep a search through a 1000 x 1000 maze within the 50 ms target (see
+// astar_planner.cpp).
 //
 // Start in an obstacle: when the start cell is not traversable (cost >= 253), the planner runs a
 // small Dijkstra through inscribed (and unknown) cells, and through lethal cells only if the start

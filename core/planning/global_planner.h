@@ -11,7 +11,7 @@
 
 namespace mobot::planning {
 
-// Why a plan failed. error_code() gives the CONTRACT.md snake_case code the API answers with
+// Why a plan failed. error_code() gives the docs/api.md snake_case code the API answers with
 // (422 for the impossible goals, 400 for kInvalidPose, 409 for kNoMap).
 enum class PlanError {
   kInvalidPose,      // "invalid_pose": NaN or infinite coordinates

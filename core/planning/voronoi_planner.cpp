@@ -11,9 +11,9 @@
 #include <queue>
 #include <stdexcept>
 
+#include "core/planning/grid_search.h"
 #include "core/planning/grid_steps.h"
 #include "core/planning/line_of_sight.h"
-#include "core/planning/grid_search.h"
 
 namespace mobot::planning {
 namespace {
@@ -199,12 +199,12 @@ bool VoronoiPlanner::search(const PlanningGrid& grid, const VoronoiRoadmap& road
 PlanResult VoronoiPlanner::plan(const PlanningGrid& grid, const geometry::Pose2D& start,
                                 const geometry::Pose2D& goal) {
   std::size_t escape_cells = 0;
-  PlanResult result = plan_on_grid(
-      grid, start, goal, options_.max_escape_distance_m,
-      [&](mapping::CellIndex from, mapping::CellIndex to, PlanResult& partial) {
-        escape_cells = partial.cells.size();
-        return search(grid, roadmap_for(grid), from, to, partial);
-      });
+  PlanResult result =
+      plan_on_grid(grid, start, goal, options_.max_escape_distance_m,
+                   [&](mapping::CellIndex from, mapping::CellIndex to, PlanResult& partial) {
+                     escape_cells = partial.cells.size();
+                     return search(grid, roadmap_for(grid), from, to, partial);
+                   });
   if (!result.ok()) return result;
   // The escape's points are kept as they are (they cross the inflated zone); the rest is reduced
   // to the roadmap's turns.

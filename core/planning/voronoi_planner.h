@@ -32,7 +32,7 @@ struct VoronoiPlannerOptions {
   double waypoint_tolerance_m = 0.05;
 };
 
-// ALGORITHMS.md C1: the Voronoi roadmap planner. The path runs from the start to the nearest
+// docs/algorithms.md C1: the Voronoi roadmap planner. The path runs from the start to the nearest
 // roadmap cell, along the roadmap (the middles of passages wider than the robot, see
 // VoronoiRoadmap) and off it to the goal, found by one A* over the traversable cells in which a
 // step onto a roadmap cell costs its length and a step onto any other traversable cell its length

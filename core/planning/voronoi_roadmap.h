@@ -21,8 +21,8 @@ struct VoronoiRoadmapOptions {
   double min_passage_width_m = 0.6;
 };
 
-// ALGORITHMS.md C1: the roadmap of the Voronoi planner, a generalized Voronoi diagram (GVD) of a
-// planning grid, about one cell wide, kept where the robot fits.
+// docs/algorithms.md C1: the roadmap of the Voronoi planner, a generalized Voronoi diagram (GVD) of
+// a planning grid, about one cell wide, kept where the robot fits.
 //
 // Sites are the obstacle cells: lethal and unknown (the planner never enters either). An exact
 // Euclidean distance transform (Meijster, Roerdink, Hesselink 2000) gives every cell its nearest

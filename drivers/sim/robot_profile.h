@@ -9,7 +9,7 @@
 namespace mobot::sim {
 
 // Everything the simulator needs to know about one robot: geometry, sensors, their noise, and the
-// systematic errors calibration is expected to find. ALGORITHMS.md R1 gives the numbers.
+// systematic errors calibration is expected to find. docs/algorithms.md R1 gives the numbers.
 struct RobotProfile {
   // Nominal drive geometry: what the odometry is configured with before calibration.
   double wheel_radius_m = 0.0;
@@ -62,7 +62,7 @@ struct RobotProfile {
   double max_angular_radps = 0.0;
 };
 
-// The multi-sensor differential robot of ALGORITHMS.md R1.
+// The multi-sensor differential robot of docs/algorithms.md R1.
 RobotProfile r1_profile();
 
 }  // namespace mobot::sim

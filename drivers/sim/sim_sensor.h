@@ -15,7 +15,10 @@ template <class Msg>
 class SimSensor final : public drivers::SensorDriver<Msg> {
  public:
   SimSensor(std::string name, double rate_hz, std::function<Msg()> read)
-      : name_(std::move(name)), rate_hz_(rate_hz), schedule_(1.0 / rate_hz), read_(std::move(read)) {}
+      : name_(std::move(name)),
+        rate_hz_(rate_hz),
+        schedule_(1.0 / rate_hz),
+        read_(std::move(read)) {}
 
   std::string_view name() const override { return name_; }
   double nominal_rate_hz() const override { return rate_hz_; }

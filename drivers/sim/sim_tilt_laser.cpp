@@ -15,11 +15,11 @@ void SimTiltLaser::start(const perception::SweepMode& mode, double now_s) {
   const RobotProfile& profile = backend_.profile();
   const double phase_rad =
       std::uniform_real_distribution<double>(0.0, 2.0 * std::numbers::pi)(phase_rng_);
-  sweep_.emplace(Sweep{mode,
-                       TiltMotion(profile.tilt_range, mode.period_s,
-                                  profile.tilt_speed_ripple_fraction, profile.tilt_ripple_period_s,
-                                  phase_rad),
-                       now_s, 0});
+  sweep_.emplace(
+      Sweep{mode,
+            TiltMotion(profile.tilt_range, mode.period_s, profile.tilt_speed_ripple_fraction,
+                       profile.tilt_ripple_period_s, phase_rad),
+            now_s, 0});
 }
 
 std::optional<msgs::TiltScan> SimTiltLaser::poll(double now_s) {

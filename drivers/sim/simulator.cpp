@@ -304,8 +304,12 @@ msgs::TiltScan Simulator::read_tilt_laser(double true_pitch_rad, double step_rad
   const auto beams = static_cast<std::size_t>(std::lround(std::numbers::pi / step_rad)) + 1;
   std::vector<double> hits_m(beams);
   std::vector<Surface> surfaces(beams);
-  const TiltedFan fan{geometry::compose(pose_, profile_.laser_in_base), profile_.laser_height_m,
-                      true_pitch_rad, 0.0, step_rad, profile_.laser_range_max_m};
+  const TiltedFan fan{geometry::compose(pose_, profile_.laser_in_base),
+                      profile_.laser_height_m,
+                      true_pitch_rad,
+                      0.0,
+                      step_rad,
+                      profile_.laser_range_max_m};
   cast_tilted_fan(fan, walls_, world_.boxes, obstacles_, hits_m, surfaces);
   scan.ranges_m.reserve(beams);
   scan.intensities.reserve(beams);

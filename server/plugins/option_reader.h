@@ -14,8 +14,10 @@ namespace mobot::server {
 // Keys the plugin does not read are refused, so a misspelt option never goes unnoticed.
 class OptionReader {
  public:
-  OptionReader(const YAML::Node& section, std::string path) : section_(section), path_(std::move(path)) {
-    if (section_ && !section_.IsNull() && !section_.IsMap()) throw ConfigError(path_ + ": expected a mapping");
+  OptionReader(const YAML::Node& section, std::string path)
+      : section_(section), path_(std::move(path)) {
+    if (section_ && !section_.IsNull() && !section_.IsMap())
+      throw ConfigError(path_ + ": expected a mapping");
   }
   ~OptionReader() = default;
 

@@ -14,7 +14,8 @@ struct PluginContext {
   NavigationSection navigation;
 };
 
-inline PluginContext plugin_context(const Config& config, const kinematics::RobotGeometry& geometry) {
+inline PluginContext plugin_context(const Config& config,
+                                    const kinematics::RobotGeometry& geometry) {
   return {geometry, config.robot.limits, config.navigation};
 }
 

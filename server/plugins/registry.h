@@ -27,7 +27,8 @@ class Registry {
 
   // `kind` names the plugin in messages ("planner"); `section` is the config's mapping that holds
   // one section per plugin ("planners" -> planners.astar).
-  Registry(std::string kind, std::string section) : kind_(std::move(kind)), section_(std::move(section)) {}
+  Registry(std::string kind, std::string section)
+      : kind_(std::move(kind)), section_(std::move(section)) {}
 
   // One registration per plugin; a name registered twice is a programming error.
   void add(std::string name, Parser parser) {
@@ -36,7 +37,9 @@ class Registry {
     }
   }
 
-  bool contains(std::string_view name) const { return parsers_.find(std::string(name)) != parsers_.end(); }
+  bool contains(std::string_view name) const {
+    return parsers_.find(std::string(name)) != parsers_.end();
+  }
   std::vector<std::string> names() const {
     std::vector<std::string> out;
     for (const auto& [name, parser] : parsers_) out.push_back(name);
@@ -47,12 +50,13 @@ class Registry {
 
   // The Maker for `name` with its section of `root` (the whole config document). Throws
   // ConfigError for an unknown name (listing the known ones) or a bad option.
-  Maker configure(std::string_view name, const YAML::Node& root, const PluginContext& context) const {
+  Maker configure(std::string_view name, const YAML::Node& root,
+                  const PluginContext& context) const {
     const auto parser = parsers_.find(std::string(name));
     if (parser == parsers_.end()) throw unknown(name);
     // Constructed, not assigned: yaml-cpp's assignment of a missing key's node throws.
-    const YAML::Node section = root && root[section_] ? YAML::Node(root[section_][std::string(name)])
-                                                      : YAML::Node();
+    const YAML::Node section =
+        root && root[section_] ? YAML::Node(root[section_][std::string(name)]) : YAML::Node();
     return parser->second(section, context);
   }
 
@@ -62,14 +66,16 @@ class Registry {
                                                           const PluginContext& context) const {
     if (root && root[section_]) {
       const YAML::Node sections = root[section_];
-      if (!sections.IsMap()) throw ConfigError(section_ + ": expected a mapping of " + kind_ + " names");
+      if (!sections.IsMap())
+        throw ConfigError(section_ + ": expected a mapping of " + kind_ + " names");
       for (const auto& entry : sections) {
         const auto name = entry.first.as<std::string>();
         if (!contains(name)) throw unknown(name, section_ + "." + name);
       }
     }
     std::map<std::string, Maker, std::less<>> makers;
-    for (const auto& [name, parser] : parsers_) makers.emplace(name, configure(name, root, context));
+    for (const auto& [name, parser] : parsers_)
+      makers.emplace(name, configure(name, root, context));
     return makers;
   }
 
@@ -93,7 +99,8 @@ class PluginSet {
   using Maker = typename Registry<Interface>::Maker;
 
   PluginSet() = default;
-  PluginSet(const Registry<Interface>& registry, const YAML::Node& root, const PluginContext& context)
+  PluginSet(const Registry<Interface>& registry, const YAML::Node& root,
+            const PluginContext& context)
       : makers_(registry.configure_all(root, context)) {}
 
   // A new instance, or null when no plugin has that name.

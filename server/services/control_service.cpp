@@ -89,10 +89,11 @@ void ControlService::submit_goal(const api::GoalRequest& request,
   runtime_.post([this, request, done = std::move(done)](TickContext& context) mutable {
     if (stages_.mux.estop()) return done(estop_engaged());
     // Planning takes milliseconds to tens of them: on the worker, never on the control loop.
-    stages_.navigate.plan(request, context,
-                          [this, request, done = std::move(done)](PlanningWorker::Outcome outcome) mutable {
-                            start_planned(request, std::move(outcome), std::move(done));
-                          });
+    stages_.navigate.plan(
+        request, context,
+        [this, request, done = std::move(done)](PlanningWorker::Outcome outcome) mutable {
+          start_planned(request, std::move(outcome), std::move(done));
+        });
   });
 }
 
@@ -127,11 +128,13 @@ std::optional<navigation::Goal> ControlService::find_goal(std::int64_t id) const
 void ControlService::cancel_goal(std::int64_t id, api::Completion<navigation::Goal> done) {
   runtime_.post([this, id, done = std::move(done)](TickContext& context) mutable {
     const auto before = stages_.navigate.find(id);
-    if (!before) return done(api::DomainError{api::ErrorKind::kNotFound, "unknown_goal", "no goal with this id"});
+    if (!before)
+      return done(
+          api::DomainError{api::ErrorKind::kNotFound, "unknown_goal", "no goal with this id"});
     if (before->finished()) {
-      return done(api::DomainError{
-          api::ErrorKind::kConflict, "goal_finished",
-          "the goal has already ended (" + std::string(navigation::to_string(before->status)) + ")"});
+      return done(api::DomainError{api::ErrorKind::kConflict, "goal_finished",
+                                   "the goal has already ended (" +
+                                       std::string(navigation::to_string(before->status)) + ")"});
     }
     stages_.navigate.cancel(id, context);
     after_commit(context, std::move(done), *stages_.navigate.find(id));

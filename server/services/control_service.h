@@ -39,9 +39,7 @@ class ControlService final : public api::ControlPort {
   void set_localization_pose(const geometry::Pose2D& pose, const std::array<double, 9>& covariance,
                              api::Completion<api::Done> done) override;
   std::vector<std::string> planner_names() const override { return plugins_.planners.names(); }
-  std::vector<std::string> controller_names() const override {
-    return plugins_.trackers.names();
-  }
+  std::vector<std::string> controller_names() const override { return plugins_.trackers.names(); }
 
  private:
   void start_planned(const api::GoalRequest& request, PlanningWorker::Outcome outcome,
@@ -51,9 +49,8 @@ class ControlService final : public api::ControlPort {
   template <class T>
   void after_commit(TickContext& context, api::Completion<T> done, T value) {
     context.then([this, done = std::move(done), value = std::move(value)]() mutable {
-      recorder_.flush_async([done = std::move(done), value = std::move(value)]() mutable {
-        done(std::move(value));
-      });
+      recorder_.flush_async(
+          [done = std::move(done), value = std::move(value)]() mutable { done(std::move(value)); });
     });
   }
 

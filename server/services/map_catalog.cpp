@@ -1,14 +1,12 @@
 #include "server/services/map_catalog.h"
 
+#include "server/wall_clock.h"
+
 #include <boost/asio/post.hpp>
 #include <chrono>
 
 namespace mobot::server {
 namespace {
-
-double unix_now_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
 
 api::MapInfo to_api(const db::MapMeta& meta) {
   return {meta.id,           meta.name,   meta.width,          meta.height,

@@ -54,7 +54,8 @@ void RunArchive::run_events(std::int64_t id,
   read_after_commit(recorder_, std::move(done), [this, id] {
     if (!runs_.get(id)) throw api::DomainException(unknown_run());
     std::vector<api::RunEvent> out;
-    for (const auto& event : runs_.events(id)) out.push_back({event.t_s, event.kind, event.detail_json});
+    for (const auto& event : runs_.events(id))
+      out.push_back({event.t_s, event.kind, event.detail_json});
     return out;
   });
 }

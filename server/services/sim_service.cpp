@@ -40,7 +40,8 @@ void SimService::sim_reset(const api::SimResetRequest& request, api::Completion<
     maps_.ensure_named_map(world->name, world->surveyed_map);
   }
   runtime_.post([this, world, request, done = std::move(done)](TickContext& context) mutable {
-    if (!world && request.pose && !sim_.pose_is_free(*request.pose)) return done(pose_in_obstacle());
+    if (!world && request.pose && !sim_.pose_is_free(*request.pose))
+      return done(pose_in_obstacle());
     reset_on_loop(world, request, context);
     context.then([this, world, done = std::move(done)]() mutable {
       recorder_.flush_async([this, world, done = std::move(done)]() mutable {
@@ -73,7 +74,8 @@ void SimService::add_sim_obstacle(const api::SimObstacleRequest& request,
                                   api::Completion<int> done) {
   runtime_.post([this, request, done = std::move(done)](TickContext& context) mutable {
     try {
-      const int id = sim_.add_obstacle(request.x_m, request.y_m, request.radius_m, request.height_m);
+      const int id =
+          sim_.add_obstacle(request.x_m, request.y_m, request.radius_m, request.height_m);
       context.then([done = std::move(done), id] { done(id); });
     } catch (const std::invalid_argument& error) {
       done(api::DomainError{api::ErrorKind::kInvalid, "invalid_obstacle", error.what()});

@@ -1,18 +1,12 @@
 #include "server/services/token_admin.h"
 
+#include "server/wall_clock.h"
+
 #include <chrono>
 
 #include "server/token_auth.h"
 
 namespace mobot::server {
-namespace {
-
-double unix_now_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
-}  // namespace
-
 TokenAdmin::TokenAdmin(db::TokenStore& tokens, const std::string& process_admin_token)
     : tokens_(tokens),
       process_admin_hash_(process_admin_token.empty() ? "" : hash_token(process_admin_token)) {}

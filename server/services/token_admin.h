@@ -16,7 +16,8 @@ class TokenAdmin final : public api::TokenAdminPort {
   TokenAdmin(db::TokenStore& tokens, const std::string& process_admin_token);
 
   std::optional<api::Role> authenticate(std::string_view token) override;
-  std::pair<std::int64_t, std::string> create_token(api::Role role, const std::string& label) override;
+  std::pair<std::int64_t, std::string> create_token(api::Role role,
+                                                    const std::string& label) override;
   std::vector<api::TokenInfo> list_tokens() const override;
   bool revoke_token(std::int64_t id) override;
 

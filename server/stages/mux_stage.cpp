@@ -57,7 +57,7 @@ void MuxStage::drop_commands(TickContext& context) {
   // A command dropped on purpose did not time out: no teleop_timeout.
   last_teleop_ = {};
   teleop_was_active_ = false;
-  context.halt = true;
+  context.halt_smoother = true;
   write(context);
 }
 

@@ -21,7 +21,8 @@ nlohmann::json goal_event(const navigation::Goal& goal) {
 
 }  // namespace
 
-NavigateStage::NavigateStage(PlanningWorker& worker, const PluginSet<control::PathTracker>& trackers,
+NavigateStage::NavigateStage(PlanningWorker& worker,
+                             const PluginSet<control::PathTracker>& trackers,
                              navigation::GoalNavigatorOptions options)
     : worker_(worker), trackers_(trackers), navigator_(std::move(options)) {}
 
@@ -65,14 +66,13 @@ void NavigateStage::request_replan(const TickContext& context) {
   const auto id = navigator_.active_id();
   if (!id || replan_) return;
   const auto goal = navigator_.find(*id);
-  replan_ = PendingReplan{goal->id, worker_.plan(context.pose, goal->target, goal->planner,
-                                                 context.unmapped_points)};
+  replan_ = PendingReplan{
+      goal->id, worker_.plan(context.pose, goal->target, goal->planner, context.unmapped_points)};
   last_replan_s_ = context.now_s;
 }
 
 void NavigateStage::collect_replan(TickContext& context) {
-  if (!replan_ ||
-      replan_->outcome.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+  if (!replan_ || replan_->outcome.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
     return;
   }
   PlanningWorker::Outcome outcome = replan_->outcome.get();
@@ -119,7 +119,9 @@ void NavigateStage::publish_changes(TickContext& context) {
   context.goals = std::make_shared<const std::vector<navigation::Goal>>(navigator_.list());
 }
 
-void NavigateStage::prepare_map(const ActiveMap& map) { worker_.set_map(*map.grid, map.generation); }
+void NavigateStage::prepare_map(const ActiveMap& map) {
+  worker_.set_map(*map.grid, map.generation);
+}
 
 void NavigateStage::apply_map(const ActiveMap&, TickContext& context) {
   end_active(navigation::GoalStatus::kCanceled, "map_changed", context);

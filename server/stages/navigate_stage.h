@@ -31,12 +31,11 @@ class NavigateStage final : public Stage, public MapListener {
 
   // Plans from the current estimate with what the sensors see that the map does not have; `done`
   // runs on the worker thread.
-  void plan(const api::GoalRequest& request, const TickContext& context,
-            PlanningWorker::Done done);
+  void plan(const api::GoalRequest& request, const TickContext& context, PlanningWorker::Done done);
   // Starts a planned goal, preempting the active one. Nothing when the controller is unknown:
   // then nothing changed.
-  std::optional<navigation::Goal> start(const api::GoalRequest& request,
-                                        const planning::Path& path, TickContext& context);
+  std::optional<navigation::Goal> start(const api::GoalRequest& request, const planning::Path& path,
+                                        TickContext& context);
   // false when no goal has that id.
   bool cancel(std::int64_t id, TickContext& context);
   void end_active(navigation::GoalStatus status, const std::string& reason, TickContext& context);

@@ -17,9 +17,8 @@ void PerceiveStage::step(TickContext& context) {
   }
   if (context.sonar) {
     // The sonar cones are coarse: they look 0.1 m wider than the laser blocks.
-    context.avoidance_echoes = obstacles_.echoes_on_path(*context.sonar, context.pose,
-                                                         context.active_path,
-                                                         blocking_distance_m_ + 0.1);
+    context.avoidance_echoes = obstacles_.echoes_on_path(
+        *context.sonar, context.pose, context.active_path, blocking_distance_m_ + 0.1);
   }
 }
 

@@ -42,7 +42,8 @@ void PublishStage::step(TickContext& context) {
                     to_array(context.covariance), context.distance_m});
   bus.odom.publish(context.odometry);
   if (context.scan) {
-    bus.scan.publish({*context.scan, geometry::compose(context.pose, context.scan->sensor_in_base)});
+    bus.scan.publish(
+        {*context.scan, geometry::compose(context.pose, context.scan->sensor_in_base)});
   }
   if (context.sonar) bus.sonar.publish({*context.sonar, context.pose});
   if (status_schedule_.due(context.now_s)) {

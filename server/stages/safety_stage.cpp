@@ -45,7 +45,8 @@ void SafetyStage::stop_on_contacts(TickContext& context) {
     // The base stops and stays stopped until somebody commands it again.
     context.halt = true;
     end_goal_("collision", context);
-    context.event("collision", {{"with", contact.with}, {"x", contact.pose.x}, {"y", contact.pose.y}});
+    context.event("collision",
+                  {{"with", contact.with}, {"x", contact.pose.x}, {"y", contact.pose.y}});
   }
 }
 

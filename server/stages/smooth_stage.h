@@ -13,8 +13,9 @@ class SmoothStage final : public Stage {
 
   std::string_view name() const override { return "smooth"; }
   void step(TickContext& context) override {
-    if (context.estop || context.halt) {
+    if (context.estop || context.halt || context.halt_smoother) {
       smoother_.halt();
+      context.halt_smoother = false;
     } else {
       smoother_.step(context.selected, context.period_s);
     }

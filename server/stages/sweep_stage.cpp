@@ -23,8 +23,8 @@ void SweepStage::step(TickContext& context) {
     if (!scan) break;
     take_scan(*scan, context);
   }
-  context.sweep = SweepProgress{sweep_->id, sweep_->scans_done, sweep_->mode.scans,
-                                sweep_->cloud.size()};
+  context.sweep =
+      SweepProgress{sweep_->id, sweep_->scans_done, sweep_->mode.scans, sweep_->cloud.size()};
   if (sweep_->scans_done >= sweep_->mode.scans) finish(std::nullopt, context);
 }
 
@@ -52,8 +52,9 @@ void SweepStage::abort(const std::string& reason, TickContext& context) {
 }
 
 void SweepStage::finish(std::optional<std::string> failure, TickContext& context) {
-  SweepOutcome outcome{sweep_->id, std::move(failure), {}, sweep_->origin_in_map,
-                       sweep_->started_s, context.now_s, map_generation_};
+  SweepOutcome outcome{
+      sweep_->id,    std::move(failure), {}, sweep_->origin_in_map, sweep_->started_s,
+      context.now_s, map_generation_};
   if (!outcome.failure) outcome.cloud = std::move(sweep_->cloud);
   sweep_.reset();
   context.sweep.reset();

@@ -1,6 +1,6 @@
-// 3D sweeps (CONTRACT.md "3D sweeps"): POST/GET /api/v1/sweeps, the cloud as PLY and as a binary
+// 3D sweeps (docs/api.md "3D sweeps"): POST/GET /api/v1/sweeps, the cloud as PLY and as a binary
 // frame, the IPaBD obstacle map, the `cloud` stream topic, the bad paths, persistence across a
-// kill, and the G2 lobby of ALGORITHMS.md P2: after a sweep the robot goes to D through gate B
+// kill, and the G2 lobby of docs/algorithms.md P2: after a sweep the robot goes to D through gate B
 // (beam above it), and with the 3D layer switched off it takes gate A and hits the low beam.
 #include <cstring>
 #include <fstream>
@@ -14,8 +14,8 @@ constexpr double kPi = std::numbers::pi;
 // g2_lobby (drivers/sim/worlds/g2_lobby): the wall with the gates spans y 3.0..3.3.
 constexpr double kGateWallLow_y = 3.0;
 constexpr double kGateWallHigh_y = 3.3;
-constexpr double kGateA_half_width = 0.7;              // x -0.7 .. 0.7, beam z 0.8..1.0
-constexpr double kGateB_min_x = -2.9;                  // x -2.9 .. -1.5, beam z 1.7..1.9
+constexpr double kGateA_half_width = 0.7;  // x -0.7 .. 0.7, beam z 0.8..1.0
+constexpr double kGateB_min_x = -2.9;      // x -2.9 .. -1.5, beam z 1.7..1.9
 constexpr double kGateB_max_x = -1.5;
 constexpr double kGoalD_x = 0.0;
 constexpr double kGoalD_y = 6.8;
@@ -92,8 +92,7 @@ std::optional<CloudFrame> parse_cloud_frame(const std::string& bytes) {
   frame.scans_done = read_le<std::uint32_t>(bytes, body + 16);
   frame.scans_total = read_le<std::uint32_t>(bytes, body + 20);
   if (bytes.size() != body + 32 + frame.count * 16U) {
-    ADD_FAILURE() << "cloud frame of " << bytes.size() << " bytes for " << frame.count
-                  << " points";
+    ADD_FAILURE() << "cloud frame of " << bytes.size() << " bytes for " << frame.count << " points";
     return std::nullopt;
   }
   for (std::uint32_t i = 0; i < frame.count; ++i) {
@@ -180,9 +179,12 @@ TEST_F(SweepsTest, ASweepRunsToDoneWithItsCloudAndObstacleMap) {
   const json grid = map.json();
   EXPECT_NEAR(grid.at("resolution").get<double>(), 0.2, 1e-9) << "a = D / 3 with D = 0.6 m";
   const auto value_at = [&](double x, double y) {
-    const int col = static_cast<int>(std::floor((x - grid.at("origin").at("x").get<double>()) / 0.2));
-    const int row = static_cast<int>(std::floor((y - grid.at("origin").at("y").get<double>()) / 0.2));
-    return grid.at("data").at(static_cast<std::size_t>(row * grid.at("width").get<int>() + col))
+    const int col =
+        static_cast<int>(std::floor((x - grid.at("origin").at("x").get<double>()) / 0.2));
+    const int row =
+        static_cast<int>(std::floor((y - grid.at("origin").at("y").get<double>()) / 0.2));
+    return grid.at("data")
+        .at(static_cast<std::size_t>(row * grid.at("width").get<int>() + col))
         .get<int>();
   };
   EXPECT_EQ(value_at(0.0, 3.15), 100) << "gate A's beam is below the robot's height";
@@ -246,8 +248,8 @@ TEST_F(SweepsTest, BadRequestsAreRefusedAndChangeNothing) {
                "invalid_field");
   expect_error(operator_client().post("/api/v1/sweeps", json{{"period_s", -10}}), 400,
                "invalid_field");
-  expect_error(operator_client().post("/api/v1/sweeps", std::string(R"({"period_s": 1e999})")),
-               400, "malformed_json");
+  expect_error(operator_client().post("/api/v1/sweeps", std::string(R"({"period_s": 1e999})")), 400,
+               "malformed_json");
   expect_error(operator_client().post("/api/v1/sweeps", std::string("{\"period_s\":")), 400,
                "malformed_json");
   expect_error(viewer().post("/api/v1/sweeps", json::object()), 403, "forbidden");
@@ -388,7 +390,8 @@ TEST(SweepsPersistenceTest, DoneSweepsSurviveAKillAndInterruptedOnesAreFailed) {
   const json done = admin.get("/api/v1/sweeps/" + std::to_string(done_id)).json();
   EXPECT_EQ(done.at("status"), "done");
   EXPECT_EQ(done.at("points"), 81 * 181);
-  const HttpReply cloud = admin.get("/api/v1/sweeps/" + std::to_string(done_id) + "/cloud?format=bin");
+  const HttpReply cloud =
+      admin.get("/api/v1/sweeps/" + std::to_string(done_id) + "/cloud?format=bin");
   ASSERT_EQ(cloud.status, 200);
   EXPECT_EQ(cloud.body.size(), 64U + 81U * 181U * 16U);
   const json interrupted = admin.get("/api/v1/sweeps/" + std::to_string(interrupted_id)).json();

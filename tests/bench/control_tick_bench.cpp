@@ -2,7 +2,8 @@
 // simulator step and sensors (laser ray casting at its 10 Hz), odometry, EKF with compass, laser
 // lines and bearings, goal navigation (tracker + sonar supervisor), command mux, smoother, the bus
 // with the recorder subscribed. No stream client is attached (the fan-out is measured by
-// mobot_stream_load). Issue target: < 1 ms per tick; the laser ticks (every 5th) are the heavy ones.
+// mobot_stream_load). Issue target: < 1 ms per tick; the laser ticks (every 5th) are the heavy
+// ones.
 #include <benchmark/benchmark.h>
 
 #include <atomic>
@@ -23,9 +24,8 @@ namespace {
 // Runs the loop's posted commands until the goal request has its answer.
 bool submit(ControlService& control, Runtime& runtime, const api::GoalRequest& request) {
   std::atomic<int> outcome{0};
-  control.submit_goal(request, [&](api::Result<navigation::Goal> result) {
-    outcome = result.ok() ? 1 : -1;
-  });
+  control.submit_goal(
+      request, [&](api::Result<navigation::Goal> result) { outcome = result.ok() ? 1 : -1; });
   while (outcome == 0) {
     runtime.run_posted();
     std::this_thread::yield();
@@ -44,8 +44,9 @@ void BM_ControlTickWithGoal(benchmark::State& state) {
   backend.world = "office";
   RobotAssembly robot(config, bus, drivers::make_backend(backend), {});
   Runtime& runtime = robot.runtime();
-  const ActiveMap map{1, 1, std::make_shared<const mapping::OccupancyGrid>(
-                                robot.backend().sim_control()->surveyed_map())};
+  const ActiveMap map{1, 1,
+                      std::make_shared<const mapping::OccupancyGrid>(
+                          robot.backend().sim_control()->surveyed_map())};
   for (auto* listener : robot.map_listeners()) listener->prepare_map(map);
   runtime.post([&](TickContext& context) {
     for (auto* listener : robot.map_listeners()) listener->apply_map(map, context);

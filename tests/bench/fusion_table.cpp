@@ -1,7 +1,8 @@
-// Reproduces ALGORITHMS.md E2's Table 3.3 in the simulator. The simulated R1 robot drives a 10 s
-// open-loop arc covering x 0..2.4 m in a 6 x 5 m room; four EKF configurations fed the same sensor
-// data (odometry only; + compass; + compass + laser lines; + compass + lines + omni bearing) are
-// scored by their RMSE in x and y against the simulator's true pose, averaged over several seeds.
+// Reproduces docs/algorithms.md E2's Table 3.3 in the simulator. The simulated R1 robot drives a 10
+// s open-loop arc covering x 0..2.4 m in a 6 x 5 m room; four EKF configurations fed the same
+// sensor data (odometry only; + compass; + compass + laser lines; + compass + lines + omni bearing)
+// are scored by their RMSE in x and y against the simulator's true pose, averaged over several
+// seeds.
 //
 // Two scenarios, on the same simulated runs:
 //  A (gated): the filters start from an operator's initial pose, off by a random error, and use
@@ -334,7 +335,7 @@ int main(int argc, char** argv) {
   realistic.map_sigma_alpha_rad = 0.01;
 
   CLI::App cli{
-      "mobot_fusion_table: ALGORITHMS.md E2 Table 3.3 (EKF fusion RMSE) reproduced in the "
+      "mobot_fusion_table: docs/algorithms.md E2 Table 3.3 (EKF fusion RMSE) reproduced in the "
       "simulator.\n"
       "The simulated R1 (r1_profile defaults) drives a 10 s open-loop arc (0.3 m/s, 0.12 rad/s;\n"
       "x 0..2.4 m) in a 6 x 5 m room with 4 bearing landmarks. Encoders at 50 Hz, compass, laser\n"
@@ -379,7 +380,7 @@ int main(int argc, char** argv) {
   const std::vector<perception::LineSegment> map_lines = perception::extract_map_lines(world.floor);
 
   std::printf(
-      "Table 3.3 reproduction (ALGORITHMS.md E2): simulated R1, seeds %llu..%llu, %.0f s "
+      "Table 3.3 reproduction (docs/algorithms.md E2): simulated R1, seeds %llu..%llu, %.0f s "
       "arc at %.2f m/s, %.2f rad/s; %zu map lines, %zu landmarks\n",
       static_cast<unsigned long long>(first_seed),
       static_cast<unsigned long long>(first_seed + seeds - 1), kRunDuration_s, kLinear_mps,

@@ -1,7 +1,7 @@
-// IPaBD (ALGORITHMS.md P2) on real-shaped clouds from the simulated nodding laser in the G2 lobby:
-// the source's 9 494-point sweep (94 scans x beams 40..140 deg at 1 deg) and a 1 000 000-point
-// cloud (0.25 deg beams, 1 387 scans); targets < 2 ms and < 100 ms. Also one tilted scan's ray
-// cast and its conversion to map-frame points, the per-scan cost on the control loop.
+// IPaBD (docs/algorithms.md P2) on real-shaped clouds from the simulated nodding laser in the G2
+// lobby: the source's 9 494-point sweep (94 scans x beams 40..140 deg at 1 deg) and a 1 000
+// 000-point cloud (0.25 deg beams, 1 387 scans); targets < 2 ms and < 100 ms. Also one tilted
+// scan's ray cast and its conversion to map-frame points, the per-scan cost on the control loop.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -30,7 +30,8 @@ perception::PointCloud lobby_cloud(int scans, double step_deg, std::size_t first
   perception::PointCloud cloud;
   cloud.reserve(max_points);
   for (int i = 0; i < scans && cloud.size() < max_points; ++i) {
-    msgs::TiltScan scan = sim.read_tilt_laser(perception::assigned_pitch_rad(i, scans), step_deg * kDeg);
+    msgs::TiltScan scan =
+        sim.read_tilt_laser(perception::assigned_pitch_rad(i, scans), step_deg * kDeg);
     scan.ranges_m.resize(std::min(scan.ranges_m.size(), last_beam + 1));
     for (std::size_t k = 0; k < first_beam; ++k) scan.ranges_m[k] = -1.0F;  // dropped
     perception::append_scan(scan, sim.true_pose(), cloud);
@@ -45,7 +46,8 @@ void run_ipabd(benchmark::State& state, const perception::PointCloud& cloud, dou
   perception::IpabdOptions options;
   options.bearing_step_rad = step_deg * kDeg;
   for (auto _ : state) {
-    const perception::IpabdResult result = perception::run_ipabd(cloud, {sensor.x, sensor.y}, options);
+    const perception::IpabdResult result =
+        perception::run_ipabd(cloud, {sensor.x, sensor.y}, options);
     benchmark::DoNotOptimize(result.obstacles.cells().data());
   }
   state.counters["points"] = static_cast<double>(cloud.size());

@@ -8,7 +8,6 @@
 // sockets on a level-triggered epoll per reader thread, one recv per readiness into a buffer that
 // is allocated once, the receipt time taken as soon as that recv returns, and no JSON parsing of
 // bulk data. Every frame of one recv shares its receipt time: that is when they reached the client.
-#include <CLI/CLI.hpp>
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -16,6 +15,7 @@
 #include <sys/epoll.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-// UMBmark calibration of the simulated R1 (ALGORITHMS.md E1, Borenstein & Feng 1996).
+// UMBmark calibration of the simulated R1 (docs/algorithms.md E1, Borenstein & Feng 1996).
 //
 // The robot drives n clockwise and n counter-clockwise square runs by dead reckoning: a driver
 // closes its loop on the robot's own odometry (nominal geometry) and follows a square of side L
@@ -253,7 +253,7 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool show_runs = false;
   CLI::App cli{
-      "mobot_umbmark: UMBmark calibration (ALGORITHMS.md E1) of the simulated R1.\n"
+      "mobot_umbmark: UMBmark calibration (docs/algorithms.md E1) of the simulated R1.\n"
       "n clockwise and n counter-clockwise squares driven by dead reckoning (a driver closing\n"
       "its loop on the nominal odometry), return errors measured against the true pose, fed to\n"
       "umbmark_calibrate; then the squares again and a 7 m straight run with the nominal and the\n"
@@ -311,7 +311,7 @@ int main(int argc, char** argv) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto mm = [](double metres) { return 1e3 * metres; };
   std::printf(
-      "UMBmark (ALGORITHMS.md E1) on the simulated R1: %d cw + %d ccw squares of %.1f m, "
+      "UMBmark (docs/algorithms.md E1) on the simulated R1: %d cw + %d ccw squares of %.1f m, "
       "driven on odometry at %.2f m/s; seed %llu\n\n",
       runs, runs, side_m, kCruise_mps, static_cast<unsigned long long>(seed));
   if (show_runs) {

@@ -34,7 +34,7 @@ import type { CloudBuffer } from './cloud';
 import type { MapGrid, Pose2D } from './frames';
 import { mapCorners } from './frames';
 
-/** The robot's body (ALGORITHMS.md: 0.6 m square, 1.2 m tall; the 3D collision check uses the same). */
+/** The robot's body (docs/algorithms.md: 0.6 m square, 1.2 m tall; the 3D collision check uses the same). */
 export const ROBOT_SIZE_M = { x: 0.6, y: 0.6, z: 1.2 } as const;
 const POINT_SIZE_M = 0.05;
 /** Pose updates (50 Hz) alone redraw at most this often: SwiftShader / weak GPUs with 72 000 points. */

@@ -1,4 +1,4 @@
-// The IPaBD obstacle map of a 3D sweep (ALGORITHMS.md P2, GET /api/v1/sweeps/{id}/obstacle_map):
+// The IPaBD obstacle map of a 3D sweep (docs/algorithms.md P2, GET /api/v1/sweeps/{id}/obstacle_map):
 // parsing, counting the occupied cells and painting them as translucent squares for the 2D map
 // overlay. Pure, so it is unit-tested.
 

@@ -139,7 +139,7 @@ def office(out_dir):
 
 
 def g2_lobby(out_dir):
-    """ALGORITHMS.md P2: start S (0, 0) facing north, goal D (0, 6.8) beyond a wall at y 3.0..3.3
+    """docs/algorithms.md P2: start S (0, 0) facing north, goal D (0, 6.8) beyond a wall at y 3.0..3.3
     with gate A (x -0.7..0.7, beam at 0.8..1.0 m: blocks the 1.2 m robot), gate B (x -2.9..-1.5,
     beam at 1.7..1.9 m: passable) and corridor C (x 3.3..4.7, open, behind a detour wall)."""
     plan = FloorPlan(-6.0, -2.0, 12.0, 12.0)

@@ -8,8 +8,9 @@ namespace {
 TEST(PrometheusText, WritesHelpTypeAndSample) {
   std::string out;
   append_metric(out, "mobot_ticks_total", "counter", "Ticks.", 42);
-  EXPECT_EQ(out, "# HELP mobot_ticks_total Ticks.\n# TYPE mobot_ticks_total counter\n"
-                 "mobot_ticks_total 42\n");
+  EXPECT_EQ(out,
+            "# HELP mobot_ticks_total Ticks.\n# TYPE mobot_ticks_total counter\n"
+            "mobot_ticks_total 42\n");
 }
 
 TEST(PrometheusText, LabelsAndFurtherSamples) {

@@ -10,8 +10,8 @@ namespace mobot::db {
 namespace {
 
 std::filesystem::path fresh_file(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("mobot_db_test_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("mobot_db_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const auto file = dir / name;
   std::filesystem::remove(file);

@@ -12,9 +12,9 @@ namespace {
 
 std::filesystem::path write_config(const std::string& text) {
   static int counter = 0;
-  const auto file = std::filesystem::temp_directory_path() /
-                    ("mobot_config_" + std::to_string(::getpid()) + "_" +
-                     std::to_string(counter++) + ".yaml");
+  const auto file =
+      std::filesystem::temp_directory_path() /
+      ("mobot_config_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".yaml");
   std::ofstream(file) << text;
   return file;
 }
@@ -29,8 +29,8 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(Config, TheShippedDefaultLoads) {
-  const Config config = load_config(std::filesystem::path(MOBOT_SOURCE_ROOT) /
-                                    "deploy/config/default.yaml");
+  const Config config =
+      load_config(std::filesystem::path(MOBOT_SOURCE_ROOT) / "deploy/config/default.yaml");
   EXPECT_EQ(config.backend, "sim");
   EXPECT_DOUBLE_EQ(config.robot.control_rate_hz, 50.0);
   EXPECT_EQ(config.sim.world, "office");

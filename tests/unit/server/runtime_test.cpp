@@ -9,7 +9,8 @@ namespace {
 
 class RecordingStage final : public Stage {
  public:
-  RecordingStage(std::string name, std::vector<std::string>& log) : name_(std::move(name)), log_(log) {}
+  RecordingStage(std::string name, std::vector<std::string>& log)
+      : name_(std::move(name)), log_(log) {}
   std::string_view name() const override { return name_; }
   void step(TickContext& context) override {
     log_.push_back(name_ + "@" + std::to_string(context.tick));

@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-// ALGORITHMS.md C2 reproduction: start (-2, 3.5, -60 deg) -> goal (0, 0, 0), dt 0.1 s, Euler
+// docs/algorithms.md C2 reproduction: start (-2, 3.5, -60 deg) -> goal (0, 0, 0), dt 0.1 s, Euler
 // unicycle, 150 steps, gains k_v 1, k_a 2, k_th 1, h 5, v_max 1.3 m/s, w_max 4.33 rad/s,
 // eps_rho 0.21 m (the smallest round value above |e_rho|max + e_v,max / k_v = 0.2064 m).
 // Source, two-law: (0.0086 m, 0.0035 m, -0.0031 rad); global law alone: (0.0032, 0.0013) m with
@@ -35,7 +35,7 @@ constexpr double kPi = std::numbers::pi;
 
 double deg(double degrees) { return degrees * kPi / 180.0; }
 
-// ALGORITHMS.md C2 noise bounds (e_x = e_y = 0.1 m, e_th = 0.0036 rad on the fed-back pose,
+// docs/algorithms.md C2 noise bounds (e_x = e_y = 0.1 m, e_th = 0.0036 rad on the fed-back pose,
 // e_v = 0.065 m/s, e_w = 0.2167 rad/s on the executed speeds).
 constexpr double kEx = 0.1;
 constexpr double kEth = 0.0036;

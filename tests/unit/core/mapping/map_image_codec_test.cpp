@@ -57,8 +57,9 @@ TEST(MapImageCodec, RejectsGarbageEmptyAndOversizedImages) {
   const std::vector<std::uint8_t> garbage{'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'g'};
   EXPECT_THROW(decode_map_image(garbage, 0.05, {}, {}, 100), MapImageError);
   EXPECT_THROW(decode_map_image({}, 0.05, {}, {}, 100), MapImageError);
-  EXPECT_THROW(decode_map_image(pgm(20, 20, std::vector<std::uint8_t>(400, 255)), 0.05, {}, {}, 100),
-               MapImageError);
+  EXPECT_THROW(
+      decode_map_image(pgm(20, 20, std::vector<std::uint8_t>(400, 255)), 0.05, {}, {}, 100),
+      MapImageError);
   EXPECT_THROW(decode_map_image(pgm(1, 1, {255}), 0.0, {}, {}, 100), MapImageError);
 }
 

@@ -19,8 +19,8 @@ using mapping::OccupancyGrid;
 // centimetre, as a dense sweep would give.
 void add_wall(PointCloud& cloud, double distance_m, double x0_m, double x1_m, double z_m) {
   for (double x = x0_m; x <= x1_m + 1e-9; x += 0.01) {
-    cloud.push_back({static_cast<float>(x), static_cast<float>(distance_m),
-                     static_cast<float>(z_m), 0.5F});
+    cloud.push_back(
+        {static_cast<float>(x), static_cast<float>(distance_m), static_cast<float>(z_m), 0.5F});
   }
 }
 
@@ -176,11 +176,13 @@ TEST(ObstacleLayer3D, ASweepOverwritesWhatItSawAndKeepsTheRest) {
   // A sweep from elsewhere that did not look there leaves the obstacle.
   PointCloud elsewhere;
   add_wall(elsewhere, -1.5, -5.0, -4.0, 0.5);
-  layer.apply(run_ipabd(elsewhere, {-4.5, -1.0}, [&] {
-                IpabdOptions o = options;
-                o.max_range_m = 1.0;
-                return o;
-              }()).obstacles);
+  layer.apply(run_ipabd(elsewhere, {-4.5, -1.0},
+                        [&] {
+                          IpabdOptions o = options;
+                          o.max_range_m = 1.0;
+                          return o;
+                        }())
+                  .obstacles);
   EXPECT_TRUE(occupied_at(layer.grid(), 0.0, 1.0));
 
   // A sweep that sees floor there now clears it.

@@ -98,12 +98,12 @@ TEST(MapLineExtractor, ThinWallGivesBothFaces) {
   EXPECT_GE(find_line(lines, 30 * kRes, kPi / 2, 1e-6, 1e-6), 0) << describe(lines);
   EXPECT_GE(find_line(lines, 31 * kRes, kPi / 2, 1e-6, 1e-6), 0) << describe(lines);
   // The lower face looks onto free space toward the origin, the upper one away from it.
-  EXPECT_EQ(lines[static_cast<std::size_t>(find_line(lines, 30 * kRes, kPi / 2, 1e-6, 1e-6))]
-                .free_side,
-            -1);
-  EXPECT_EQ(lines[static_cast<std::size_t>(find_line(lines, 31 * kRes, kPi / 2, 1e-6, 1e-6))]
-                .free_side,
-            1);
+  EXPECT_EQ(
+      lines[static_cast<std::size_t>(find_line(lines, 30 * kRes, kPi / 2, 1e-6, 1e-6))].free_side,
+      -1);
+  EXPECT_EQ(
+      lines[static_cast<std::size_t>(find_line(lines, 31 * kRes, kPi / 2, 1e-6, 1e-6))].free_side,
+      1);
 }
 
 TEST(MapLineExtractor, EveryFaceKnowsItsFreeSideInTheMapFrame) {

@@ -15,8 +15,7 @@ inline mapping::OccupancyGrid free_map(int width, int height) {
   return mapping::OccupancyGrid(width, height, kRes, {}, mapping::OccupancyGrid::kFree);
 }
 
-inline void fill(mapping::OccupancyGrid& map, int x0, int y0, int x1, int y1,
-                 std::uint8_t value) {
+inline void fill(mapping::OccupancyGrid& map, int x0, int y0, int x1, int y1, std::uint8_t value) {
   for (int y = y0; y <= y1; ++y) {
     for (int x = x0; x <= x1; ++x) map.set({x, y}, value);
   }

@@ -17,9 +17,9 @@
 
 #include "core/mapping/occupancy_grid.h"
 #include "core/planning/astar_planner.h"
-#include "core/planning/voronoi_planner.h"
 #include "core/planning/line_of_sight.h"
 #include "core/planning/planning_grid_builder.h"
+#include "core/planning/voronoi_planner.h"
 #include "tests/unit/core/planning/planning_test_maps.h"
 
 namespace mobot::planning {

@@ -1,4 +1,5 @@
-// The simulated omnidirectional camera: Simulator::read_landmark_bearings (ALGORITHMS.md E2 set 3).
+// The simulated omnidirectional camera: Simulator::read_landmark_bearings (docs/algorithms.md E2
+// set 3).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -102,8 +102,8 @@ TEST(TiltLaser, AFlatTargetAt2850mmIsWithinThreePercent) {
   const TiltMotion motion(r1_profile().tilt_range, mode.period_s, 0.05, 1.7, 1.0);
   perception::PointCloud cloud;
   for (int i = 0; i < mode.scans; ++i) {
-    msgs::TiltScan scan = sim.read_tilt_laser(motion.pitch_rad(i * mode.period_s / mode.scans),
-                                              1.0 * kDeg);
+    msgs::TiltScan scan =
+        sim.read_tilt_laser(motion.pitch_rad(i * mode.period_s / mode.scans), 1.0 * kDeg);
     scan.pitch_rad = perception::assigned_pitch_rad(i, mode.scans);
     perception::append_scan(scan, sim.true_pose(), cloud);
   }

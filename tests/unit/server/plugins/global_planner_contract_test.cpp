@@ -67,9 +67,7 @@ TEST(GlobalPlannerContract, ErrorCodesAreTheContractsNames) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPlanner, GlobalPlannerContract,
-                         ::testing::ValuesIn([] {
-                           return planners().names();
-                         }()),
+                         ::testing::ValuesIn([] { return planners().names(); }()),
                          [](const ::testing::TestParamInfo<std::string>& param) {
                            return param.param;
                          });

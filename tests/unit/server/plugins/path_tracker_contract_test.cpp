@@ -81,8 +81,7 @@ TEST_P(PathTrackerContract, ClearStopsForGood) {
   EXPECT_EQ(tracker->compute({0, 0, 0}, {}, 0.02), msgs::Twist{});
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryTracker, PathTrackerContract,
-                         ::testing::ValuesIn(trackers().names()),
+INSTANTIATE_TEST_SUITE_P(EveryTracker, PathTrackerContract, ::testing::ValuesIn(trackers().names()),
                          [](const ::testing::TestParamInfo<std::string>& param) {
                            return param.param;
                          });

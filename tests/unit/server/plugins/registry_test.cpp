@@ -12,7 +12,8 @@ namespace {
 template <class Interface>
 void expect_every_plugin_constructible(const Registry<Interface>& registry) {
   ASSERT_FALSE(registry.names().empty()) << registry.kind();
-  const PluginSet<Interface> plugins(registry, YAML::Node(), PluginContext{{0.1, 0.5, 1000, 0.6, 0.6, 1.2}, {}, {}});
+  const PluginSet<Interface> plugins(registry, YAML::Node(),
+                                     PluginContext{{0.1, 0.5, 1000, 0.6, 0.6, 1.2}, {}, {}});
   for (const auto& name : registry.names()) {
     const auto instance = plugins.make(name);
     ASSERT_NE(instance, nullptr) << registry.kind() << " " << name;
@@ -41,7 +42,8 @@ TEST(Registry, KnowsTheBuiltInNames) {
 
 TEST(Registry, ANameRegisteredTwiceIsAProgrammingError) {
   Plugins plugins = builtin_plugins();
-  const Registry<planning::GlobalPlanner>::Parser parser = [](const YAML::Node&, const PluginContext&) {
+  const Registry<planning::GlobalPlanner>::Parser parser = [](const YAML::Node&,
+                                                              const PluginContext&) {
     return Registry<planning::GlobalPlanner>::Maker{};
   };
   EXPECT_THROW(plugins.planners.add("astar", parser), std::logic_error);
@@ -63,8 +65,9 @@ std::string config_error(const std::string& yaml) {
 
 TEST(Registry, EachPluginReadsItsOwnSectionAndRefusesWhatItDoesNotKnow) {
   EXPECT_EQ(config_error("planners: {astar: {cost_penalty_weight: 1.5}}"), "");
-  EXPECT_NE(config_error("planners: {astar: {cost_penalty: 1.5}}").find("planners.astar.cost_penalty"),
-            std::string::npos);
+  EXPECT_NE(
+      config_error("planners: {astar: {cost_penalty: 1.5}}").find("planners.astar.cost_penalty"),
+      std::string::npos);
   EXPECT_NE(config_error("planners: {astar: {cost_penalty_weight: -1}}")
                 .find("planners.astar.cost_penalty_weight"),
             std::string::npos);

@@ -9,8 +9,7 @@ namespace {
 class MuxStageTest : public ::testing::Test {
  protected:
   MuxStageTest()
-      : context_(bus_),
-        mux_({{"safety", 10, 0.2}, {"teleop", 7, 1.0}, {"navigation", 5, 1.0}}) {
+      : context_(bus_), mux_({{"safety", 10, 0.2}, {"teleop", 7, 1.0}, {"navigation", 5, 1.0}}) {
     bus_.events.subscribe([this](const EventSample& event) { events_.push_back(event.kind); });
   }
 

@@ -13,7 +13,9 @@ namespace mobot::server::testing {
 // A base that records the wheel commands it is given and reports what the test queues.
 class FakeBase final : public drivers::BaseDriver {
  public:
-  void set_wheel_command(const msgs::WheelCommand& command) override { commands.push_back(command); }
+  void set_wheel_command(const msgs::WheelCommand& command) override {
+    commands.push_back(command);
+  }
   std::optional<msgs::WheelEncoders> read_encoders(double now_s) override {
     if (silent) return std::nullopt;
     encoders.stamp_s = now_s;
@@ -37,7 +39,8 @@ class FakeBase final : public drivers::BaseDriver {
 template <class Msg>
 class FakeSensor final : public drivers::SensorDriver<Msg> {
  public:
-  FakeSensor(std::string name, Msg reading) : name_(std::move(name)), reading_(std::move(reading)) {}
+  FakeSensor(std::string name, Msg reading)
+      : name_(std::move(name)), reading_(std::move(reading)) {}
 
   std::string_view name() const override { return name_; }
   double nominal_rate_hz() const override { return 50.0; }
