@@ -28,8 +28,9 @@ struct RobotSection {
   std::vector<std::string> required_sensors{"encoders", "laser"};
   double control_rate_hz = 50.0;
   // SCHED_FIFO priority of the control loop's thread (1..99), 0 for none: ticks start on time
-  // however loaded the machine is, where the process may (root or CAP_SYS_NICE).
-  int realtime_priority = 10;
+  // however loaded the machine is, where the process may (root or CAP_SYS_NICE). Off by default:
+  // on two cores it costs the stream fan-out's latency (BENCHMARKS.md).
+  int realtime_priority = 0;
   double laser_rate_hz = 10.0;
   double sonar_rate_hz = 10.0;
   double compass_rate_hz = 10.0;
