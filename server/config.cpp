@@ -25,7 +25,7 @@ void check_range(const std::string& key, T value, T min, T max) {
 // Reads file keys as "section.key" so every message names the full path of the bad key.
 class Reader {
  public:
-  explicit Reader(YAML::Node root) : root_(std::move(root)) {}
+  explicit Reader(const YAML::Node& root) : root_(root) {}
 
   template <class T>
   void read(const char* section, const char* key, T& out) const {

@@ -30,7 +30,8 @@ std::string plan_error_message(planning::PlanError error) {
 Eigen::Matrix3d to_matrix(const std::array<double, 9>& values) {
   Eigen::Matrix3d m;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) m(r, c) = values[static_cast<std::size_t>(r * 3 + c)];
+    for (int c = 0; c < 3; ++c)
+      m(r, c) = values[static_cast<std::size_t>(r) * 3 + static_cast<std::size_t>(c)];
   }
   return m;
 }

@@ -53,7 +53,7 @@ void SimService::sim_reset(const api::SimResetRequest& request, api::Completion<
   });
 }
 
-void SimService::reset_on_loop(std::shared_ptr<const drivers::SimWorldChoice> world,
+void SimService::reset_on_loop(const std::shared_ptr<const drivers::SimWorldChoice>& world,
                                const api::SimResetRequest& request, TickContext& context) {
   stages_.navigate.end_active(navigation::GoalStatus::kCanceled, "reset", context);
   if (stages_.sweep) stages_.sweep->abort("reset", context);

@@ -35,7 +35,7 @@ class SimService final : public api::SimControlPort {
   void remove_sim_obstacle(int id, api::Completion<api::Done> done) override;
 
  private:
-  void reset_on_loop(std::shared_ptr<const drivers::SimWorldChoice> world,
+  void reset_on_loop(const std::shared_ptr<const drivers::SimWorldChoice>& world,
                      const api::SimResetRequest& request, TickContext& context);
 
   drivers::SimControl& sim_;

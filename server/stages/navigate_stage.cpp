@@ -24,7 +24,7 @@ nlohmann::json goal_event(const navigation::Goal& goal) {
 NavigateStage::NavigateStage(PlanningWorker& worker,
                              const PluginSet<control::PathTracker>& trackers,
                              navigation::GoalNavigatorOptions options)
-    : worker_(worker), trackers_(trackers), navigator_(std::move(options)) {}
+    : worker_(worker), trackers_(trackers), navigator_(options) {}
 
 void NavigateStage::plan(const api::GoalRequest& request, const TickContext& context,
                          PlanningWorker::Done done) {

@@ -6,7 +6,8 @@ namespace {
 std::array<double, 9> to_array(const Eigen::Matrix3d& m) {
   std::array<double, 9> out{};
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out[static_cast<std::size_t>(r * 3 + c)] = m(r, c);
+    for (int c = 0; c < 3; ++c)
+      out[static_cast<std::size_t>(r) * 3 + static_cast<std::size_t>(c)] = m(r, c);
   }
   return out;
 }
