@@ -107,10 +107,12 @@ void NavigateStage::step(TickContext& context) {
 
 void NavigateStage::publish_changes(TickContext& context) {
   const std::vector<navigation::Goal> changes = navigator_.take_changes();
+  // Every start, replan and end of a goal is a change: without one, what the context holds of
+  // the goals is still true, and the tick copies nothing.
+  if (changes.empty()) return;
   const auto active = navigator_.active_id();
   context.navigating = active.has_value();
   context.active_path = active ? navigator_.find(*active)->path : std::vector<geometry::Point2D>{};
-  if (changes.empty()) return;
   for (const auto& goal : changes) {
     context.bus->goals.publish(
         {context.now_s, goal, goal.status == navigation::GoalStatus::kActive});
