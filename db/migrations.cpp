@@ -82,7 +82,20 @@ CREATE TABLE sweeps (
 );
 )sql";
 
-constexpr std::array<std::string_view, 2> kMigrations{kInitialSchema, kSweeps};
+// Keep-out zones of a map: the polygon as float64 x, y per vertex (little-endian). They go with
+// their map.
+constexpr std::string_view kZones = R"sql(
+CREATE TABLE map_zones (
+  id INTEGER PRIMARY KEY,
+  map_id INTEGER NOT NULL REFERENCES maps (id) ON DELETE CASCADE,
+  name TEXT NOT NULL,
+  polygon BLOB NOT NULL,
+  created_unix_s REAL NOT NULL
+);
+CREATE INDEX map_zones_by_map ON map_zones (map_id);
+)sql";
+
+constexpr std::array<std::string_view, 3> kMigrations{kInitialSchema, kSweeps, kZones};
 
 }  // namespace
 
