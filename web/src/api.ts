@@ -4,7 +4,10 @@
 import { ApiError, errorText } from './apierror';
 import type { Goal } from './goals';
 import type { JsonObstacleMap } from './ipabd';
+import type { EstimatorName } from './localization';
+import type { MappingStartReply, MappingStatus, MappingStopReply } from './mapping';
 import type { SweepInfo, SweepRequest } from './sweeps';
+import type { ZoneRequest } from './zones';
 
 export interface Pose {
   x: number;
@@ -22,7 +25,8 @@ export interface RobotStatus {
   mode: string;
   pose: Pose;
   velocity: { v: number; w: number };
-  localization: { method: string; cov: number[] };
+  /** `method` starts with ekf, particle_filter, slam or odometry, a detail in parentheses may follow. */
+  localization: { method: string; cov: number[]; converged?: boolean };
   kinematics: string;
   estop: boolean;
   sensors: Record<string, SensorHealth>;
@@ -109,6 +113,9 @@ export async function errorFromResponse(response: Response): Promise<ApiError> {
   return new ApiError(response.status, code, message);
 }
 
+/** Whether the server serves a path: a wrong method on a known path is 405, an unknown path 404 (both before auth). */
+export type PathPresence = 'present' | 'absent' | 'unknown';
+
 export class ApiClient {
   constructor(
     private token: string,
@@ -150,6 +157,22 @@ export class ApiClient {
   /** GET returning the raw bytes (binary cloud frames). */
   async bytes(path: string): Promise<ArrayBuffer> {
     return (await this.request('GET', path)).arrayBuffer();
+  }
+
+  /**
+   * Asks with GET whether `path` exists, without doing what another method would do there: 404
+   * not_found is absent; 2xx, 401, 403 and 405 are present; anything else (unreachable) unknown.
+   */
+  async probe(path: string): Promise<PathPresence> {
+    try {
+      await this.request('GET', path);
+      return 'present';
+    } catch (error) {
+      if (!(error instanceof ApiError)) return 'unknown';
+      if (error.status === 404 && error.code === 'not_found') return 'absent';
+      if (error.status === 401 || error.status === 403 || error.status === 405) return 'present';
+      return 'unknown';
+    }
   }
 
   health(): Promise<Health> {
@@ -196,6 +219,31 @@ export class ApiClient {
   }
   setLocalizationPose(pose: Pose, cov?: number[]): Promise<unknown> {
     return this.json('POST', '/api/v1/localization/pose', cov ? { ...pose, cov } : pose);
+  }
+  localizeGlobally(): Promise<{ method: string }> {
+    return this.json('POST', '/api/v1/localization/global', {});
+  }
+  setLocalizationMethod(method: EstimatorName): Promise<{ method: string }> {
+    return this.json('PUT', '/api/v1/localization/method', { method });
+  }
+  mapping(): Promise<MappingStatus> {
+    return this.json('GET', '/api/v1/mapping');
+  }
+  startMapping(): Promise<MappingStartReply> {
+    return this.json('POST', '/api/v1/mapping', { action: 'start' });
+  }
+  /** Stops mapping: with a name the map is stored and made active, without one it is discarded. */
+  stopMapping(saveAs?: string): Promise<MappingStopReply> {
+    return this.json('POST', '/api/v1/mapping', saveAs === undefined ? { action: 'stop' } : { action: 'stop', save_as: saveAs });
+  }
+  zones(mapId: number): Promise<unknown> {
+    return this.json('GET', `/api/v1/maps/${mapId}/zones`);
+  }
+  addZone(mapId: number, body: ZoneRequest): Promise<{ id: number }> {
+    return this.json('POST', `/api/v1/maps/${mapId}/zones`, body);
+  }
+  deleteZone(mapId: number, zoneId: number): Promise<void> {
+    return this.json('DELETE', `/api/v1/maps/${mapId}/zones/${zoneId}`);
   }
   sweeps(): Promise<SweepInfo[]> {
     return this.json('GET', '/api/v1/sweeps');

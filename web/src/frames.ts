@@ -1,5 +1,17 @@
 // Decoders for the stream's binary frames (README "Binary frames") and the equivalent JSON bodies.
-// Pure functions: no DOM, no sockets, so they are unit-tested in Node.
+// Pure functions: no DOM, no sockets, so they are unit-tested in Node. The map's tile frames, the
+// costmaps and the particle cloud have their own modules (tiles.ts, costmap.ts, particles.ts);
+// decodeBinaryFrame dispatches to them.
+
+import { decodeCostmapBody } from './costmap';
+import type { Costmap } from './costmap';
+import { FrameError } from './frame_error';
+import { decodeParticlesBody } from './particles';
+import type { ParticleSet } from './particles';
+import { decodeTileBody, MAP_FLAG_TILES } from './tiles';
+import type { TileUpdate } from './tiles';
+
+export { FrameError };
 
 export const BINARY_MAGIC = 'MBT1';
 export const MIN_HEADER_BYTES = 32;
@@ -10,6 +22,7 @@ export const BinaryTopic = {
   cloud: 3,
   costmap: 4,
   camera: 5,
+  particles: 6,
 } as const;
 
 const BINARY_TOPIC_NAMES: Record<number, string> = {
@@ -18,6 +31,7 @@ const BINARY_TOPIC_NAMES: Record<number, string> = {
   3: 'cloud',
   4: 'costmap',
   5: 'camera',
+  6: 'particles',
 };
 
 export interface FrameHeader {
@@ -76,8 +90,6 @@ export interface CloudChunk {
 export const CLOUD_BODY_HEADER_BYTES = 32;
 export const CLOUD_FLOATS_PER_POINT = 4;
 const CLOUD_FLAG_LAST = 1;
-
-export class FrameError extends Error {}
 
 export function parseHeader(buffer: ArrayBuffer): FrameHeader {
   if (buffer.byteLength < MIN_HEADER_BYTES) {
@@ -181,10 +193,19 @@ export function decodeCloudBody(buffer: ArrayBuffer, bodyOffset: number): CloudC
   };
 }
 
+/** The flags of a map body (offset 28; bit 0: a tile frame). Zero for a body too short to hold them. */
+export function mapBodyFlags(buffer: ArrayBuffer, bodyOffset: number): number {
+  if (buffer.byteLength < bodyOffset + 32) return 0;
+  return new DataView(buffer, bodyOffset).getUint32(28, true);
+}
+
 export type BinaryFrame =
   | { header: FrameHeader; kind: 'scan'; scan: LaserScan }
   | { header: FrameHeader; kind: 'map'; map: MapGrid }
+  | { header: FrameHeader; kind: 'tiles'; tiles: TileUpdate }
   | { header: FrameHeader; kind: 'cloud'; cloud: CloudChunk }
+  | { header: FrameHeader; kind: 'costmap'; costmap: Costmap }
+  | { header: FrameHeader; kind: 'particles'; particles: ParticleSet }
   | { header: FrameHeader; kind: 'other' };
 
 export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
@@ -193,9 +214,17 @@ export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
     case BinaryTopic.scan:
       return { header, kind: 'scan', scan: decodeScanBody(buffer, header.headerBytes) };
     case BinaryTopic.map:
+      // Bit 0 of the flags: changed tiles of the map being built, not a whole map.
+      if ((mapBodyFlags(buffer, header.headerBytes) & MAP_FLAG_TILES) !== 0) {
+        return { header, kind: 'tiles', tiles: decodeTileBody(buffer, header.headerBytes) };
+      }
       return { header, kind: 'map', map: decodeMapBody(buffer, header.headerBytes) };
     case BinaryTopic.cloud:
       return { header, kind: 'cloud', cloud: decodeCloudBody(buffer, header.headerBytes) };
+    case BinaryTopic.costmap:
+      return { header, kind: 'costmap', costmap: decodeCostmapBody(buffer, header.headerBytes) };
+    case BinaryTopic.particles:
+      return { header, kind: 'particles', particles: decodeParticlesBody(buffer, header.headerBytes) };
     default:
       return { header, kind: 'other' };
   }
@@ -203,7 +232,7 @@ export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
 
 // ---- JSON bodies (the same data with "encoding":"json") ----
 
-interface JsonPose {
+export interface JsonPose {
   x: number;
   y: number;
   theta: number;

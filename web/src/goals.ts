@@ -36,17 +36,10 @@ export function isFinished(goal: Pick<Goal, 'status'> | null | undefined): boole
   return !!goal && FINISHED.has(goal.status);
 }
 
-/** Planners and controllers of the contract; `available` are the ones this server build runs. */
+/** Planners of the contract; `available` are the ones this server build runs (controllers: controllers.ts). */
 export const PLANNERS = [
   { name: 'astar', label: 'A* (grid)', available: true },
   { name: 'voronoi', label: 'Voronoi roadmap', available: true },
-] as const;
-
-export const CONTROLLERS = [
-  { name: 'lyapunov', label: 'Lyapunov', available: true },
-  { name: 'pure_pursuit', label: 'Pure pursuit', available: false },
-  { name: 'dwa', label: 'DWA', available: false },
-  { name: 'potential_field', label: 'Potential field', available: false },
 ] as const;
 
 /** Validates a goal-shaped value from the wire; null when it is not one. */

@@ -5,7 +5,8 @@
 
 import { ApiError, errorText } from './apierror';
 import type { ApiClient } from './api';
-import { CONTROLLERS, distanceToTarget, goalElapsed, GoalStore, isFinished, parseGoal, parsePoints, pathLength, PLANNERS } from './goals';
+import { ControllerChoice, DEFAULT_CONTROLLER } from './controllers';
+import { distanceToTarget, goalElapsed, GoalStore, isFinished, parseGoal, parsePoints, pathLength, PLANNERS } from './goals';
 import type { Goal } from './goals';
 import { STATUS_COLORS } from './map/colors';
 import type { MapTool } from './map/input';
@@ -52,12 +53,14 @@ const ERROR_TEXT: Record<string, string> = {
   forbidden: 'This token may not do that (the operator role is needed).',
   no_map: 'There is no map to plan on.',
   unsupported_planner: 'That planner is not available in this server build.',
-  unsupported_controller: 'That controller is not available in this server build.',
+  unsupported_controller: 'That controller is not available on this robot.',
   goal_finished: 'The goal has already ended.',
 };
 
 export class NavigationPanel {
   readonly store = new GoalStore(30);
+  /** Controllers offered: every contract name until the server refuses one. */
+  readonly controllers = new ControllerChoice();
   mode: NavMode | null = null;
   lastError: NavError | null = null;
   /** Robot clock (s) of the latest frame. */
@@ -78,10 +81,7 @@ export class NavigationPanel {
     planner.replaceChildren(
       ...PLANNERS.map((p) => h('option', { text: p.available ? p.label : `${p.label} (not in this build)`, attrs: { value: p.name, ...(p.available ? {} : { disabled: '' }) } })),
     );
-    const controller = byId<HTMLSelectElement>('goal-controller');
-    controller.replaceChildren(
-      ...CONTROLLERS.map((c) => h('option', { text: c.available ? c.label : `${c.label} (not in this build)`, attrs: { value: c.name, ...(c.available ? {} : { disabled: '' }) } })),
-    );
+    this.renderControllers();
 
     byId('goal-mode').addEventListener('click', () => this.toggleMode('goal'));
     byId('sim-obstacle-mode').addEventListener('click', () => this.toggleMode('obstacle'));
@@ -121,6 +121,22 @@ export class NavigationPanel {
 
   onClock(t: number): void {
     if (Number.isFinite(t)) this.clock = t;
+  }
+
+  /** The controller select: the names offered, a refused one disabled, the choice kept when still offered. */
+  renderControllers(): void {
+    const select = byId<HTMLSelectElement>('goal-controller');
+    const chosen = this.controllers.pick(select.value || DEFAULT_CONTROLLER);
+    select.replaceChildren(
+      ...this.controllers.options().map((c) => h('option', { text: c.label, attrs: { value: c.name, ...(c.available ? {} : { disabled: '' }) } })),
+    );
+    select.value = chosen;
+  }
+
+  /** Another server process: its controllers are learnt anew. */
+  serverChanged(): void {
+    this.controllers.reset();
+    this.renderControllers();
   }
 
   setSimAvailable(available: boolean): void {
@@ -213,6 +229,11 @@ export class NavigationPanel {
       if (reply) this.store.upsert(reply);
     } catch (error) {
       this.mapView.layers.errorMark.flash(x, y);
+      if (error instanceof ApiError && error.code === 'unsupported_controller') {
+        // This robot lacks it: offer it no more, and fall back to the default for the next goal.
+        this.controllers.refuse(body.controller);
+        this.renderControllers();
+      }
       this.showError(error, 'Goal refused');
     } finally {
       this.pending = false;

@@ -1,11 +1,21 @@
 // The WebSocket stream of mobotd: connects with ?token=, subscribes on hello, decodes JSON and
 // binary frames, measures latency (ping/pong and wall_us), and reconnects with exponential backoff.
 
+import { costmapFromJson } from './costmap';
+import type { Costmap, JsonCostmap } from './costmap';
 import { cloudFromJson, decodeBinaryFrame, FrameError, mapFromJson, scanFromJson } from './frames';
-import type { CloudChunk, FrameHeader, JsonCloud, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
+import type { BinaryFrame, CloudChunk, FrameHeader, JsonCloud, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
+import { particlesFromJson } from './particles';
+import type { JsonParticles, ParticleSet } from './particles';
 import { backoffDelayMs, StreamStats } from './stats';
+import { isTileJson, tilesFromJson } from './tiles';
+import type { TileUpdate } from './tiles';
 
-export const WANTED_TOPICS = ['pose', 'odom', 'scan', 'sonar', 'map', 'status', 'events', 'truth', 'goal', 'path', 'cloud'];
+/** Subscribed when the hello advertises them (ir, costmaps and particles: robots and builds that have them). */
+export const WANTED_TOPICS = [
+  'pose', 'odom', 'scan', 'sonar', 'ir', 'map', 'status', 'events', 'truth', 'goal', 'path', 'cloud',
+  'costmap', 'local_costmap', 'particles',
+];
 
 export type ConnectionState = 'connecting' | 'connected' | 'disconnected' | 'auth_error';
 
@@ -34,6 +44,12 @@ export interface StreamHandlers {
   json?(topic: string, data: unknown, meta: FrameMeta): void;
   scan?(scan: LaserScan, meta: FrameMeta): void;
   map?(map: MapGrid, meta: FrameMeta): void;
+  /** Changed tiles of the map being built (the `map` topic while mapping). */
+  tiles?(update: TileUpdate, meta: FrameMeta): void;
+  /** The global (`costmap`) or local (`local_costmap`) costmap; `which` tells them apart. */
+  costmap?(costmap: Costmap, meta: FrameMeta): void;
+  /** The particle filter's weighted sample (`particles`). */
+  particles?(particles: ParticleSet, meta: FrameMeta): void;
   /** A chunk of a 3D sweep's point cloud (one tilting-laser scan). */
   cloud?(chunk: CloudChunk, meta: FrameMeta): void;
   /** `{"op":"error"}` replies: unknown op/topic, teleop refused (estop_engaged, forbidden) ... */
@@ -287,8 +303,11 @@ export class StreamClient {
     this.stats.record(topic, meta.seq, topic === 'map' ? undefined : meta.wallUs, Date.now(), text.length);
     try {
       if (topic === 'scan' && handlers.scan) handlers.scan(scanFromJson(message.data as JsonScan), meta);
+      else if (topic === 'map' && isTileJson(message.data)) handlers.tiles?.(tilesFromJson(message.data), meta);
       else if (topic === 'map' && handlers.map) handlers.map(mapFromJson(message.data as JsonMap), meta);
       else if (topic === 'cloud' && handlers.cloud) handlers.cloud(cloudFromJson(message.data as JsonCloud), meta);
+      else if ((topic === 'costmap' || topic === 'local_costmap') && handlers.costmap) handlers.costmap(costmapFromJson(message.data as JsonCostmap), meta);
+      else if (topic === 'particles' && handlers.particles) handlers.particles(particlesFromJson(message.data as JsonParticles), meta);
       else handlers.json?.(topic, message.data, meta);
     } catch (error) {
       console.warn(`mobot: bad ${topic} frame`, error);
@@ -296,20 +315,45 @@ export class StreamClient {
   }
 
   private onBinary(buffer: ArrayBuffer): void {
-    let header: FrameHeader;
+    let frame: BinaryFrame;
     try {
-      const frame = decodeBinaryFrame(buffer);
-      header = frame.header;
-      const meta: FrameMeta = { topic: header.topic, t: header.t, seq: header.seq, wallUs: header.wallUs };
-      // The map is re-sent on subscribe with its original stamp: its wall_us is an age, not a lag.
-      const wallUs = frame.kind === 'map' ? undefined : header.wallUs;
-      this.stats.record(header.topic, header.seq, wallUs, Date.now(), buffer.byteLength);
-      if (frame.kind === 'scan') this.options.handlers.scan?.(frame.scan, meta);
-      else if (frame.kind === 'map') this.options.handlers.map?.(frame.map, meta);
-      else if (frame.kind === 'cloud') this.options.handlers.cloud?.(frame.cloud, meta);
+      frame = decodeBinaryFrame(buffer);
     } catch (error) {
-      if (error instanceof FrameError) console.warn('mobot: bad binary frame:', error.message);
-      else throw error;
+      if (error instanceof FrameError) {
+        console.warn('mobot: bad binary frame:', error.message);
+        return;
+      }
+      throw error;
+    }
+    const header: FrameHeader = frame.header;
+    // Both costmap topics share binary topic id 4: the body's `which` names the topic (and its seq).
+    const topic = frame.kind === 'costmap' && frame.costmap.which === 'local' ? 'local_costmap' : header.topic;
+    const meta: FrameMeta = { topic, t: header.t, seq: header.seq, wallUs: header.wallUs };
+    // The map is re-sent on subscribe with its original stamp: its wall_us is an age, not a lag.
+    const wallUs = frame.kind === 'map' ? undefined : header.wallUs;
+    this.stats.record(topic, header.seq, wallUs, Date.now(), buffer.byteLength);
+    const handlers = this.options.handlers;
+    switch (frame.kind) {
+      case 'scan':
+        handlers.scan?.(frame.scan, meta);
+        break;
+      case 'map':
+        handlers.map?.(frame.map, meta);
+        break;
+      case 'tiles':
+        handlers.tiles?.(frame.tiles, meta);
+        break;
+      case 'cloud':
+        handlers.cloud?.(frame.cloud, meta);
+        break;
+      case 'costmap':
+        handlers.costmap?.(frame.costmap, meta);
+        break;
+      case 'particles':
+        handlers.particles?.(frame.particles, meta);
+        break;
+      default:
+        break;
     }
   }
 
