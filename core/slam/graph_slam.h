@@ -59,10 +59,14 @@ struct GraphSlamOptions {
   double refine_translation_weight = 0.1;
   double refine_rotation_weight = 0.1;
 
-  // --- odometry (used when a match fails, and as the prior's scale) ---
-  // Std-dev of odometry per metre travelled and per radian turned, with a floor.
+  // --- odometry ---
+  // Every node is tied to the previous one twice: by the match and by the odometry increment, each
+  // with its covariance, so the optimiser (and the node's first estimate) weighs the two. Std-dev
+  // of the increment per metre travelled and per radian turned, plus heading drift per metre, with
+  // floors (for wheel odometry whose scale is calibrated to ~1-3 %).
   double odom_translation_sigma_per_m = 0.05;
   double odom_rotation_sigma_per_rad = 0.05;
+  double odom_rotation_sigma_per_m = 0.01;
   double odom_min_sigma_m = 0.01;
   double odom_min_sigma_rad = 0.005;
 

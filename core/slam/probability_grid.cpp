@@ -1,0 +1,135 @@
+#include "core/slam/probability_grid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mobot::slam {
+
+GridLimits GridLimits::covering(std::span<const geometry::Point2D> points, double resolution_m,
+                                double margin_m) {
+  if (!(resolution_m > 0.0) || !std::isfinite(resolution_m) || !(margin_m >= 0.0)) {
+    throw std::invalid_argument("GridLimits::covering: resolution must be > 0, margin >= 0");
+  }
+  double min_x = std::numeric_limits<double>::infinity();
+  double min_y = min_x;
+  double max_x = -min_x;
+  double max_y = -min_x;
+  for (const auto& p : points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    min_x = std::min(min_x, p.x);
+    min_y = std::min(min_y, p.y);
+    max_x = std::max(max_x, p.x);
+    max_y = std::max(max_y, p.y);
+  }
+  GridLimits limits;
+  limits.resolution_m = resolution_m;
+  if (!(min_x <= max_x)) return limits;
+  // Origins on multiples of the resolution: grids built from the same scans at different times
+  // then share cell boundaries, which keeps matching results independent of the bounding box.
+  limits.origin_x_m = std::floor((min_x - margin_m) / resolution_m) * resolution_m;
+  limits.origin_y_m = std::floor((min_y - margin_m) / resolution_m) * resolution_m;
+  limits.width = static_cast<int>(std::ceil((max_x + margin_m - limits.origin_x_m) / resolution_m));
+  limits.height =
+      static_cast<int>(std::ceil((max_y + margin_m - limits.origin_y_m) / resolution_m));
+  return limits;
+}
+
+ProbabilityGrid::ProbabilityGrid(const GridLimits& limits) : limits_(limits) {
+  if (limits.width < 0 || limits.height < 0 || !(limits.resolution_m > 0.0) ||
+      !std::isfinite(limits.resolution_m) || !std::isfinite(limits.origin_x_m) ||
+      !std::isfinite(limits.origin_y_m)) {
+    throw std::invalid_argument("ProbabilityGrid: sizes >= 0, finite origin, resolution > 0");
+  }
+  cells_.assign(static_cast<std::size_t>(limits.width) * static_cast<std::size_t>(limits.height),
+                0.0F);
+}
+
+void ProbabilityGrid::smear_points(std::span<const geometry::Point2D> points_in_map,
+                                   double sigma_m) {
+  if (!(sigma_m > 0.0) || !std::isfinite(sigma_m)) {
+    throw std::invalid_argument("ProbabilityGrid::smear_points: sigma must be > 0");
+  }
+  if (cells_.empty()) return;
+  const double res = limits_.resolution_m;
+  const int radius = std::max(1, static_cast<int>(std::ceil(3.0 * sigma_m / res)));
+  const double inv_two_sigma2 = 1.0 / (2.0 * sigma_m * sigma_m);
+  std::vector<double> weight_x(static_cast<std::size_t>(2 * radius + 1));
+  for (const auto& p : points_in_map) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    const double cx = limits_.to_cell_x(p.x);
+    const double cy = limits_.to_cell_y(p.y);
+    const int ix = static_cast<int>(std::lround(cx));
+    const int iy = static_cast<int>(std::lround(cy));
+    if (ix < -radius || iy < -radius || ix >= limits_.width + radius ||
+        iy >= limits_.height + radius) {
+      continue;
+    }
+    const int y0 = std::max(0, iy - radius);
+    const int y1 = std::min(limits_.height - 1, iy + radius);
+    const int x0 = std::max(0, ix - radius);
+    const int x1 = std::min(limits_.width - 1, ix + radius);
+    // The Gaussian is separable: one exp per row and per column instead of one per cell.
+    for (int x = x0; x <= x1; ++x) {
+      const double dx = (x - cx) * res;
+      weight_x[static_cast<std::size_t>(x - x0)] = std::exp(-dx * dx * inv_two_sigma2);
+    }
+    for (int y = y0; y <= y1; ++y) {
+      const double dy = (y - cy) * res;
+      const double wy = std::exp(-dy * dy * inv_two_sigma2);
+      float* row = &cells_[index(0, y)];
+      for (int x = x0; x <= x1; ++x) {
+        const auto value = static_cast<float>(wy * weight_x[static_cast<std::size_t>(x - x0)]);
+        row[x] = std::max(row[x], value);
+      }
+    }
+  }
+}
+
+ProbabilityGrid::Sample ProbabilityGrid::interpolate(double x_m, double y_m) const {
+  Sample out;
+  if (cells_.empty()) return out;
+  const double cx = limits_.to_cell_x(x_m);
+  const double cy = limits_.to_cell_y(y_m);
+  if (!std::isfinite(cx) || !std::isfinite(cy)) return out;
+  const double fx = std::floor(cx);
+  const double fy = std::floor(cy);
+  if (fx < -3.0 || fy < -3.0 || fx > limits_.width + 2.0 || fy > limits_.height + 2.0) return out;
+  const int x0 = static_cast<int>(fx);
+  const int y0 = static_cast<int>(fy);
+  const double tx = cx - fx;
+  const double ty = cy - fy;
+  // Catmull-Rom weights and their derivatives for the samples at -1, 0, 1, 2.
+  auto weights = [](double t, std::array<double, 4>& w, std::array<double, 4>& dw) {
+    const double t2 = t * t;
+    const double t3 = t2 * t;
+    w = {0.5 * (-t3 + 2.0 * t2 - t), 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
+         0.5 * (-3.0 * t3 + 4.0 * t2 + t), 0.5 * (t3 - t2)};
+    dw = {0.5 * (-3.0 * t2 + 4.0 * t - 1.0), 0.5 * (9.0 * t2 - 10.0 * t),
+          0.5 * (-9.0 * t2 + 8.0 * t + 1.0), 0.5 * (3.0 * t2 - 2.0 * t)};
+  };
+  std::array<double, 4> wx{}, dwx{}, wy{}, dwy{};
+  weights(tx, wx, dwx);
+  weights(ty, wy, dwy);
+  double value = 0.0, gx = 0.0, gy = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    double row_v = 0.0, row_d = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      const double c = at(x0 - 1 + i, y0 - 1 + j);
+      row_v += wx[i] * c;
+      row_d += dwx[i] * c;
+    }
+    value += wy[j] * row_v;
+    gx += wy[j] * row_d;
+    gy += dwy[j] * row_v;
+  }
+  const double inv_res = 1.0 / limits_.resolution_m;
+  out.value = value;
+  out.d_dx = gx * inv_res;
+  out.d_dy = gy * inv_res;
+  return out;
+}
+
+}  // namespace mobot::slam
