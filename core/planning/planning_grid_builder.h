@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <span>
 
+#include "core/costmap/inflation_layer.h"
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/planning/planning_grid.h"
@@ -34,9 +35,10 @@ struct ExtraObstacles {
   std::span<const geometry::Point2D> points_in_map;
 };
 
-// Builds the costmap-like grid A* searches from an occupancy grid: obstacles become kLethal,
-// an exact Euclidean distance transform gives every cell its distance to the nearest obstacle,
-// and costmap_2d's inflation turns that into kInscribed or a decaying cost.
+// Builds the costmap-like grid A* searches from an occupancy grid: a global costmap of the map's
+// geometry with three of the costmap layers (docs/algorithms.md P3), run once: the static layer
+// (obstacles kLethal, unknown kUnknown or free), the extra obstacles as in the obstacle-grid layer,
+// and the inflation layer (exact Euclidean distance, costmap_2d's kInscribed or decaying cost).
 class PlanningGridBuilder {
  public:
   // Throws std::invalid_argument on negative or non-finite options.
@@ -49,10 +51,13 @@ class PlanningGridBuilder {
                      const ExtraObstacles& extra = {}) const;
 
   // costmap_2d's inflation cost for a cell at `distance_m` from the nearest obstacle.
-  std::uint8_t cost_at_distance(double distance_m) const;
+  std::uint8_t cost_at_distance(double distance_m) const {
+    return inflation_.cost_at_distance(distance_m);
+  }
 
  private:
   PlanningGridOptions options_;
+  costmap::InflationLayer inflation_;
 };
 
 }  // namespace mobot::planning
