@@ -6,7 +6,7 @@ import { ApiError, errorText } from './apierror';
 
 /** The estimators of PUT /api/v1/localization/method. */
 export const ESTIMATORS = [
-  { name: 'ekf', label: 'EKF (odometry + features)' },
+  { name: 'ekf', label: 'EKF' },
   { name: 'particle_filter', label: 'Particle filter' },
   { name: 'odometry', label: 'Odometry only' },
 ] as const;
@@ -97,4 +97,9 @@ export function localizationErrorText(error: unknown, what: 'global' | 'method')
     }
   }
   return errorText(error);
+}
+
+/** A method's detail as pieces that end at a '+' or ',' (where a narrow panel may break the line). */
+export function detailPieces(detail: string): string[] {
+  return detail.split(/(?<=[+,])/);
 }

@@ -13,6 +13,9 @@ import { covarianceEllipse, headingSigma } from './goals';
 import { NavigationPanel } from './nav';
 import type { NavError, NavMode } from './nav';
 import { IpabdOverlay } from './ipabdoverlay';
+import { LocalizationPanel } from './localization_panel';
+import { MappingPanel } from './mapping_panel';
+import { ZonesPanel } from './zones_panel';
 import { CloudPage } from './pages/cloud3d';
 import { MapsPage } from './pages/maps';
 import { RunsPage } from './pages/runs';
@@ -74,6 +77,22 @@ export interface MobotHooks {
   };
   /** Occupied IPaBD cells drawn over the Live map ("3D obstacles"), 0 when off. */
   readonly ipabdCells: number;
+  /** Id of the whole map shown (0: not a stored map), null before one arrived. */
+  readonly mapId: number | null;
+  /** The map being built while mapping: tiles held, tiles drawn in the last frame, cells known. */
+  readonly tiles: { count: number; drawn: number; knownCells: number };
+  /** The mapping panel: phase (unknown|unsupported|idle|starting|mapping|saving|discarding), the server's counts, the last refusal, the map saved. */
+  readonly mapping: { phase: string; mapping: boolean; scans: number; nodes: number; loopClosures: number; error: string | null; saved: { id: number; name: string } | null };
+  /** Localization as /robot reports it, and the panel's last refusal. */
+  readonly localization: { method: string | null; family: string | null; converged: boolean | null; error: string | null; globalRunning: boolean };
+  /** The particle cloud: particles in the sample, in the filter, drawn in the last frame, samples drawn. */
+  readonly particles: { count: number; total: number; drawn: number; setsDrawn: number };
+  /** Cells of the global and local costmaps drawn (0: none). */
+  readonly costmaps: { global: number; local: number };
+  /** IR readings drawn. */
+  readonly irReadings: number;
+  /** Keep-out zones of the map shown, the draw mode's draft and the last refusal. */
+  readonly zones: { mapId: number | null; count: number; drawn: number; drawing: boolean; vertices: number; problem: string | null; error: string | null };
 }
 
 let token = initialToken();
@@ -100,6 +119,7 @@ const stream = new StreamClient({
     hello: (hello) => {
       const truth = (hello.topics ?? []).some((t) => t.name === 'truth');
       live.setTruthAvailable(truth);
+      live.setTopicsAvailable((hello.topics ?? []).map((t) => t.name));
       nav.setSimAvailable(truth);
       document.body.classList.toggle('sim', truth);
       live.mapView.layers.trail.clear(); // the server may have restarted with the robot elsewhere
@@ -118,11 +138,13 @@ const stream = new StreamClient({
           nav.onPath(data);
           break;
         case 'status':
-          live.onStatus(data as RobotStatus);
-          showEstop((data as RobotStatus).estop);
+          onRobotStatus(data as RobotStatus);
           break;
         case 'sonar':
           live.onSonar(data as { readings?: SonarReading[] });
+          break;
+        case 'ir':
+          live.onIr(data as { readings?: SonarReading[] });
           break;
         case 'truth':
           live.onTruth(data as { pose: Pose2D; collisions: number });
@@ -136,6 +158,8 @@ const stream = new StreamClient({
             cloud3d.onSweepEvent(detail);
             ipabd.onSweepEvent(detail);
           }
+          if ((data as { kind?: string }).kind === 'mapping') mapping.onEvent();
+          if ((data as { kind?: string }).kind === 'ir_safety') showIrSafety((data as { detail?: unknown }).detail);
           break;
         default:
           break;
@@ -146,6 +170,13 @@ const stream = new StreamClient({
       live.onMap(map);
       runs.setMap(map);
       cloud3d.onMap(map);
+      zones.onMap(map);
+    },
+    tiles: (update) => live.onTiles(update),
+    costmap: (costmap) => live.onCostmap(costmap),
+    particles: (particles) => {
+      live.onParticles(particles);
+      localization.onParticles(particles);
     },
     cloud: (chunk) => cloud3d.onChunk(chunk),
     serverError: (code, message) => {
@@ -167,6 +198,25 @@ const maps = new MapsPage(byId('page-maps'), api);
 const runs = new RunsPage(byId('page-runs'), api);
 const cloud3d = new CloudPage(byId('page-3d'), api);
 const ipabd = new IpabdOverlay(api, live.mapView.layers.ipabd, byId('layer-ipabd-status'));
+const localization = new LocalizationPanel(api);
+const mapping = new MappingPanel(api, {
+  clock: () => nav.clock,
+  tiles: () => live.mapView.tiles,
+  ended: (saved) => {
+    if (!saved) {
+      live.mapView.clearTiles();
+      return;
+    }
+    // The saved map is now the active one: the Maps page lists it so, and the `map` topic sends it
+    // whole (which replaces the tiles); should it not come, the tiles go anyway.
+    void maps.refresh();
+    window.setTimeout(() => {
+      if (!mapping.state.mapping) live.mapView.clearTiles();
+    }, 3000);
+  },
+});
+live.onParticlesStale = () => localization.onParticles(null);
+const zones = new ZonesPanel(api, live.mapView, { leaveOtherTools: () => nav.setMode(null) });
 byId<HTMLInputElement>('layer-ipabd').addEventListener('change', (e) => {
   const on = (e.target as HTMLInputElement).checked;
   document.body.classList.toggle('ipabd', on);
@@ -260,7 +310,66 @@ window.__mobot = {
   get ipabdCells() {
     return live.mapView.layers.ipabd.cells;
   },
+  get mapId() {
+    return live.mapView.getMap()?.id ?? null;
+  },
+  get tiles() {
+    const store = live.mapView.tiles;
+    return { count: store.size, drawn: live.mapView.layers.mapTiles.tilesDrawn, knownCells: store.knownCells() };
+  },
+  get mapping() {
+    const s = mapping.state;
+    return {
+      phase: s.phase,
+      mapping: s.mapping,
+      scans: s.status?.scans ?? 0,
+      nodes: s.status?.nodes ?? 0,
+      loopClosures: s.status?.loop_closures ?? 0,
+      error: s.error,
+      saved: s.saved ? { ...s.saved } : null,
+    };
+  },
+  get localization() {
+    const s = localization.status;
+    return { method: s.method?.raw ?? null, family: s.method?.family ?? null, converged: s.converged, error: localization.lastError, globalRunning: localization.globalRunning };
+  },
+  get particles() {
+    const layer = live.mapView.layers.particles;
+    const set = layer.current;
+    return { count: set?.count ?? 0, total: set?.total ?? 0, drawn: layer.drawn, setsDrawn: layer.setsDrawn };
+  },
+  get costmaps() {
+    return { global: live.mapView.layers.costmap.cells, local: live.mapView.layers.localCostmap.cells };
+  },
+  get irReadings() {
+    return live.mapView.layers.ir.count;
+  },
+  get zones() {
+    return {
+      mapId: zones.mapId,
+      count: zones.zones.length,
+      drawn: live.mapView.layers.zones.drawn,
+      drawing: zones.drawing,
+      vertices: zones.draft.vertices.length,
+      problem: zones.draft.problem,
+      error: zones.lastError,
+    };
+  },
 };
+
+/** /robot (REST or the status topic): every panel that shows part of it. */
+function onRobotStatus(status: RobotStatus): void {
+  live.onStatus(status);
+  showEstop(status.estop);
+  mapping.onStatus(status);
+  localization.onStatus(status);
+}
+
+/** An `ir_safety` event: the IR ring saw something in a safety zone and the robot reacted. */
+function showIrSafety(detail: unknown): void {
+  const d = (detail && typeof detail === 'object' ? detail : {}) as { sensor?: unknown; zone?: unknown; reaction?: unknown };
+  toast(`IR safety: sensor ${String(d.sensor ?? '?')} in the ${String(d.zone ?? '?')} zone → ${String(d.reaction ?? '?')}`, 'error');
+}
 
 // ---- connection ----
 
@@ -282,6 +391,9 @@ function showConnection(state: ConnectionState, detail: string): void {
   if (state === 'connected') {
     void loadServerInfo();
     void nav.load();
+    void mapping.connected();
+    void localization.connected();
+    void zones.connected();
     void cloud3d.connected();
     if (ipabd.enabled) void ipabd.refresh();
     if (currentPage !== 'live') void refreshPage(currentPage);
@@ -294,15 +406,17 @@ async function loadServerInfo(): Promise<void> {
     byId('server-info').textContent = `${health.backend} · v${health.version}`;
     // A server started anew (uptime went back) has none of the obstacles dropped before.
     const startedAt = Date.now() / 1000 - health.uptime_s;
-    if (serverStartedAt !== null && Math.abs(startedAt - serverStartedAt) > 3) nav.clearObstacles();
+    if (serverStartedAt !== null && Math.abs(startedAt - serverStartedAt) > 3) {
+      nav.clearObstacles();
+      // Nor need it refuse the controllers the old one did.
+      nav.serverChanged();
+    }
     serverStartedAt = startedAt;
   } catch {
     // informative only
   }
   try {
-    const status = await api.robot();
-    live.onStatus(status);
-    showEstop(status.estop);
+    onRobotStatus(await api.robot());
   } catch (error) {
     if (error instanceof ApiError && error.status === 401) showLogin(`The server refused the token: ${error.describe()}`);
   }
@@ -389,7 +503,11 @@ function showPage(page: string): void {
   if (page !== 'live') live.teleop.releaseAll();
   live.teleop.enabled = page === 'live';
   nav.enabled = page === 'live';
-  if (page !== 'live') nav.setMode(null);
+  zones.enabled = page === 'live';
+  if (page !== 'live') {
+    nav.setMode(null);
+    zones.stop();
+  }
   if (page !== '3d') cloud3d.hide();
   if (window.location.hash !== `#${page}`) window.history.replaceState(null, '', `#${page}`);
   void refreshPage(page);

@@ -1,32 +1,44 @@
 import { describe, expect, it, vi } from 'vitest';
-import { drawLayers, LAYER_SWITCHES } from '../src/map/layer';
+import { defaultSwitches, drawLayers, LAYER_SWITCHES } from '../src/map/layer';
 import type { LayerFilter, MapFrame, MapLayer, MapScene } from '../src/map/layer';
 import { createMapLayers } from '../src/map/layers';
+import { paintTileInto } from '../src/map/layers/map_tiles';
+import { OCCUPANCY_PALETTE } from '../src/map/layers/map_image';
 import { ViewTransform } from '../src/map/view_transform';
+import { particlesFromJson } from '../src/particles';
+import { PolygonDraft } from '../src/polygon_tool';
+import { TileStore } from '../src/tile_store';
 
-/** The drawing order the dashboard has always had, bottom first. */
+/** The drawing order, bottom first: the map (whole or being built), the costmaps, zones, sensors, plans, robot, tools. */
 const EXPECTED_ORDER = [
   'grid',
   'map',
+  'mapTiles',
+  'costmap',
+  'localCostmap',
   'ipabd',
+  'zones',
   'sonar',
+  'ir',
   'scan',
   'trajectory',
   'obstacles',
   'path',
   'goal',
   'trail',
+  'particles',
   'headingWedge',
   'truth',
   'robot',
   'covariance',
   'errorMark',
+  'polygonDraft',
   'toolPreview',
   'scaleBar',
   'cursorReadout',
 ];
 
-const ROBOT_LAYERS = ['trail', 'headingWedge', 'truth', 'robot', 'covariance'];
+const ROBOT_LAYERS = ['trail', 'particles', 'headingWedge', 'truth', 'robot', 'covariance'];
 
 interface RecordingContext {
   ctx: CanvasRenderingContext2D;
@@ -62,12 +74,12 @@ function frameOf(ctx: CanvasRenderingContext2D, scene: Partial<MapScene> = {}): 
     width: 800,
     height: 600,
     canvas: { dataset: {} } as HTMLCanvasElement,
-    scene: { map: null, pose: null, cov: null, pointer: { tool: null, press: null, cursor: null }, ...scene },
+    scene: { map: null, tiles: new TileStore(), pose: null, cov: null, pointer: { tool: null, press: null, cursor: null }, ...scene },
   };
 }
 
 const everything: LayerFilter = {
-  switches: { scan: true, sonar: true, trail: true, truth: true, path: true, cov: true },
+  switches: Object.fromEntries(LAYER_SWITCHES.map((name) => [name, true])) as LayerFilter['switches'],
   showRobot: true,
 };
 
@@ -143,14 +155,55 @@ describe('layers', () => {
     layers.trail.add(0, 0);
     layers.trail.add(1, 0);
     layers.truth.set({ x: 0.1, y: 0, theta: 0 });
+    layers.ir.set([{ x: 0, y: 0, theta: 1, cone: 0.2, range: 0.3, range_min: 0.05, range_max: 0.8 }]);
+    layers.particles.set(particlesFromJson({ count: 2, total: 100, particles: [[0, 0, 0, 0.7], [1, 0, 1, 0.3]] }));
+    layers.zones.set([{ id: 1, name: 'dock', polygon: [[0, 0], [2, 0], [2, 2]] }]);
+    const draft = new PolygonDraft();
+    draft.start();
+    draft.click([0, 0], 0.01);
+    draft.click([1, 0], 0.01);
+    draft.move([1, 1]);
+    layers.polygonDraft.attach(draft);
     const scene = { pose: { x: 0, y: 0, theta: 0 }, cov: [0.04, 0, 0, 0, 0.01, 0, 0, 0, 0.02], pointer: { tool: null, press: null, cursor: [1, 2] as [number, number] } };
-    const silent = new Set(['map', 'ipabd', 'errorMark', 'toolPreview']);
+    // Without data (map, costmaps, tiles: painting them needs a DOM) these draw nothing.
+    const silent = new Set(['map', 'mapTiles', 'costmap', 'localCostmap', 'ipabd', 'errorMark', 'toolPreview']);
     for (const layer of Object.values(layers)) {
       const { ctx, calls } = recordingContext();
       layer.draw(frameOf(ctx, scene));
       if (silent.has(layer.id)) expect(calls, layer.id).toEqual([]);
       else expect(calls.length, layer.id).toBeGreaterThan(0);
     }
+  });
+
+  it('publish what they drew on the canvas: tiles, costmap cells, particles, zones', () => {
+    const layers = createMapLayers(() => {});
+    const frame = frameOf(recordingContext().ctx);
+    for (const layer of Object.values(layers)) layer.draw(frame);
+    expect(frame.canvas.dataset).toMatchObject({ tiles: '0', costmapCells: '0', localCostmapCells: '0', particles: '0', zones: '0' });
+    layers.particles.set(particlesFromJson({ count: 3, total: 3, particles: [[0, 0, 0, 1], [1, 1, 0, 1], [NaN, 0, 0, 1]] }));
+    layers.zones.set([{ id: 1, name: '', polygon: [[0, 0], [1, 0], [1, 1]] }, { id: 2, name: '', polygon: [[0, 0], [1, 0]] }]);
+    layers.particles.draw(frame);
+    layers.zones.draw(frame);
+    expect(frame.canvas.dataset).toMatchObject({ particles: '2', zones: '1' });
+    expect(layers.particles.setsDrawn).toBe(1);
+    layers.particles.draw(frame);
+    expect(layers.particles.setsDrawn).toBe(1);
+  });
+
+  it('start with the switches of the Live page: the global costmap off, the rest on', () => {
+    const defaults = defaultSwitches();
+    expect(Object.keys(defaults).sort()).toEqual([...LAYER_SWITCHES].sort());
+    expect(Object.entries(defaults).filter(([, on]) => !on).map(([name]) => name)).toEqual(['costmap']);
+  });
+
+  it('paint a tile into the mosaic at its lattice offset, row 0 at the bottom', () => {
+    const pixels = new Uint32Array(4 * 4);
+    paintTileInto(pixels, 4, Uint8Array.of(0, 100, 255, 50), 2, 2, 1);
+    expect(pixels[1 * 4 + 2]).toBe(OCCUPANCY_PALETTE[0]);
+    expect(pixels[1 * 4 + 3]).toBe(OCCUPANCY_PALETTE[100]);
+    expect(pixels[2 * 4 + 2]).toBe(OCCUPANCY_PALETTE[255]);
+    expect(pixels[2 * 4 + 3]).toBe(OCCUPANCY_PALETTE[50]);
+    expect(pixels.filter((p) => p !== 0).length).toBe(4);
   });
 
   it('publishes the IPaBD cells drawn on the canvas (none without a grid)', () => {

@@ -1,6 +1,7 @@
 // Pointer input on the map canvas: drag pans, the wheel zooms about the cursor, a double click
-// fits, and while a press-and-drag tool is active (set goal, set pose, drop obstacle) a left press
-// belongs to the tool instead of panning. The cursor's map position is kept for the readout.
+// fits, and while a tool is active (set goal, set pose, drop obstacle: press and drag; keep-out
+// zone: click vertices, double-click to close) a left press belongs to the tool instead of
+// panning. The cursor's map position is kept for the readout.
 
 import { dragHeading } from '../goals';
 import type { Viewport } from './viewport';
@@ -17,7 +18,16 @@ export interface MapTool {
   heading: boolean;
   /** A circle of this radius (m) is previewed at the press point (obstacles). */
   radius?: number;
+  /** The tool draws its own preview (a polygon draft): no marker at the cursor. */
+  ownPreview?: boolean;
+  /** A release: the press point and, for heading tools dragged far enough, the drag's heading. */
   done(point: { x: number; y: number }, heading: number | null): void;
+  /** A double click while the tool is active; without it a double click does nothing then. */
+  doubleClick?(point: { x: number; y: number }): void;
+  /** The pointer moved over the canvas (map frame). */
+  moved?(point: { x: number; y: number }): void;
+  /** Another tool (or none) replaced this one. */
+  left?(): void;
 }
 
 /** A tool's press in progress: where it went down and where the pointer is now (map frame). */
@@ -67,8 +77,14 @@ export class MapInput {
     canvas.addEventListener('pointerleave', () => this.onPointerLeave());
     // Not passive: the wheel zooms the map instead of scrolling the page.
     canvas.addEventListener('wheel', (e) => this.onWheel(e), { passive: false });
-    canvas.addEventListener('dblclick', () => {
-      if (!this.pointer.tool) hooks.fit();
+    canvas.addEventListener('dblclick', (e) => {
+      const tool = this.pointer.tool;
+      if (!tool) hooks.fit();
+      else if (tool.doubleClick) {
+        const [x, y] = this.mapPoint(e);
+        tool.doubleClick({ x, y });
+        hooks.redraw();
+      }
     });
   }
 
@@ -76,7 +92,9 @@ export class MapInput {
   setTool(tool: MapTool | null): void {
     const press = this.pointer.press;
     if (press) this.release(press.pointerId);
+    const previous = this.pointer.tool;
     this.pointer.tool = tool;
+    if (previous && previous !== tool) previous.left?.();
     this.pointer.press = null;
     this.canvas.classList.toggle('tool', !!tool);
     this.hooks.redraw();
@@ -99,6 +117,7 @@ export class MapInput {
   private onPointerMove(e: PointerEvent): void {
     const cursor = this.mapPoint(e);
     this.pointer.cursor = cursor;
+    this.pointer.tool?.moved?.({ x: cursor[0], y: cursor[1] });
     const press = this.pointer.press;
     if (press && press.pointerId === e.pointerId) {
       press.currentX = cursor[0];

@@ -2,17 +2,26 @@
 // draws the registered layers bottom to top (layers/index.ts holds the list).
 
 import type { MapGrid, Pose2D } from '../frames';
+import type { TileStore } from '../tile_store';
 import type { PointerState } from './input';
 import type { ViewTransform } from './view_transform';
 
 /** The Live page's layer checkboxes (#layer-<name>); a layer may belong to one of them. */
-export const LAYER_SWITCHES = ['scan', 'sonar', 'trail', 'truth', 'path', 'cov'] as const;
+export const LAYER_SWITCHES = ['scan', 'sonar', 'ir', 'trail', 'truth', 'path', 'cov', 'particles', 'costmap', 'localCostmap', 'zones'] as const;
 export type LayerSwitch = (typeof LAYER_SWITCHES)[number];
 export type LayerSwitches = Record<LayerSwitch, boolean>;
 
+/** Which switches start on (the checkboxes of index.html say the same): the global costmap hides the map's colours. */
+export function defaultSwitches(): LayerSwitches {
+  return { scan: true, sonar: true, ir: true, trail: true, truth: true, path: true, cov: true, particles: true, costmap: false, localCostmap: true, zones: true };
+}
+
 /** What more than one layer reads; the rest of a layer's data is its own (set through the layer). */
 export interface MapScene {
+  /** The whole map (the `map` topic); not drawn while `tiles` holds a map being built. */
   map: MapGrid | null;
+  /** The map being built while mapping, as tiles (empty otherwise). */
+  tiles: TileStore;
   /** The estimated pose of the robot. */
   pose: Pose2D | null;
   /** Its 3x3 covariance (x, y, theta; row-major), or null when the pose came without one. */

@@ -1,15 +1,18 @@
 // Canvas view of the map frame: the occupancy grid and everything drawn over it (layers/), panned
 // by dragging and zoomed with the wheel about the cursor. This class wires the canvas (size, draw
 // loop), the viewport (view transform and fitting), the pointer input and the layers, and holds
-// what several of them share: the map and the estimated pose.
+// what several of them share: the map (whole, or the tiles of one being built) and the estimated
+// pose.
 
 import { mapCorners } from '../frames';
 import type { MapGrid, Pose2D } from '../frames';
+import { TileStore } from '../tile_store';
+import type { TileUpdate } from '../tiles';
 import { MapCanvas } from './canvas';
 import { BACKGROUND } from './colors';
 import { MapInput } from './input';
 import type { MapTool } from './input';
-import { drawLayers } from './layer';
+import { defaultSwitches, drawLayers } from './layer';
 import type { LayerSwitch, LayerSwitches, MapScene } from './layer';
 import { createMapLayers } from './layers';
 import type { MapLayers } from './layers';
@@ -37,7 +40,7 @@ export class MapView {
   private readonly viewport = new Viewport();
   private readonly input: MapInput;
   private readonly scene: MapScene;
-  private readonly switches: LayerSwitches = { scan: true, sonar: true, trail: true, truth: true, path: true, cov: true };
+  private readonly switches: LayerSwitches = defaultSwitches();
 
   constructor(
     readonly canvas: HTMLCanvasElement,
@@ -49,7 +52,7 @@ export class MapView {
     });
     this.layers = createMapLayers(() => this.invalidate());
     this.input = new MapInput(canvas, this.viewport, { redraw: () => this.invalidate(), fit: () => this.fit() });
-    this.scene = { map: null, pose: null, cov: null, pointer: this.input.pointer };
+    this.scene = { map: null, tiles: new TileStore(), pose: null, cov: null, pointer: this.input.pointer };
     this.surface.start();
   }
 
@@ -64,9 +67,12 @@ export class MapView {
 
   // ---- shared data ----
 
+  /** A whole map: it replaces the tiles of a map being built. */
   setMap(map: MapGrid): void {
     const previous = this.scene.map;
     this.scene.map = map;
+    const hadTiles = this.scene.tiles.size > 0;
+    this.scene.tiles.clear();
     const changedShape =
       !previous ||
       previous.id !== map.id ||
@@ -74,16 +80,37 @@ export class MapView {
       previous.height !== map.height ||
       previous.resolution !== map.resolution;
     // A map update (new cells, same grid) keeps the view; another map is fitted.
-    if (changedShape) this.viewport.contentChanged();
+    if (changedShape || hadTiles) this.viewport.contentChanged();
     this.mapShown = true;
     this.invalidate();
+  }
+
+  /** Changed tiles of the map being built; a view that follows the content grows with the map. */
+  setTiles(update: TileUpdate): void {
+    const result = this.scene.tiles.apply(update);
+    if (result.reset || result.grew) this.viewport.contentChanged();
+    if (this.scene.tiles.size > 0) this.mapShown = true;
+    this.invalidate();
+  }
+
+  /** Drops the tiles (mapping ended): the whole map shows again. */
+  clearTiles(): void {
+    if (this.scene.tiles.size === 0) return;
+    this.scene.tiles.clear();
+    this.viewport.contentChanged();
+    this.invalidate();
+  }
+
+  /** The tiles of the map being built (read-only use). */
+  get tiles(): TileStore {
+    return this.scene.tiles;
   }
 
   getMap(): MapGrid | null {
     return this.scene.map;
   }
 
-  /** The estimated pose; a `cov` of 9 numbers (3x3, x y theta) adds the uncertainty layers. */
+  /** The estimated pose, whatever the estimator; a `cov` of 9 numbers (3x3, x y theta) adds the uncertainty layers. */
   setPose(pose: Pose2D & { cov?: readonly number[] }): void {
     this.scene.pose = pose;
     this.scene.cov = Array.isArray(pose.cov) && pose.cov.length === 9 ? pose.cov : null;
@@ -172,9 +199,11 @@ export class MapView {
     this.framesDrawn++;
   }
 
-  /** What a fit shows: the whole map, else the robot's surroundings, else nothing yet. */
+  /** What a fit shows: the map being built, else the whole map, else the robot's surroundings, else nothing yet. */
   private contentBounds(): Bounds | null {
-    const { map, pose } = this.scene;
+    const { map, pose, tiles } = this.scene;
+    const built = tiles.bounds();
+    if (built) return built;
     if (map) return boundsOf(mapCorners(map));
     if (pose) return grow({ minX: pose.x, minY: pose.y, maxX: pose.x, maxY: pose.y }, ROBOT_SURROUNDINGS_M);
     return null;

@@ -124,3 +124,63 @@ export function paintedCanvas(width: number, height: number, paint: (pixels: Uin
   ctx.putImageData(data, 0, 0);
   return image;
 }
+
+/**
+ * An offscreen canvas painted pixel by pixel and repainted in place: the canvas and its ImageData
+ * are kept while the size stays (a costmap at 5 Hz allocates nothing per frame).
+ */
+export class PixelCanvas {
+  canvas: HTMLCanvasElement | null = null;
+  private image: ImageData | null = null;
+
+  /** Paints all pixels; false without 2D. */
+  paint(width: number, height: number, paint: (pixels: Uint32Array) => void): boolean {
+    if (width <= 0 || height <= 0) return false;
+    if (!this.canvas || this.canvas.width !== width || this.canvas.height !== height || !this.image) {
+      this.canvas = document.createElement('canvas');
+      this.canvas.width = width;
+      this.canvas.height = height;
+      this.image = this.canvas.getContext('2d')?.createImageData(width, height) ?? null;
+    }
+    const ctx = this.canvas.getContext('2d');
+    if (!ctx || !this.image) return false;
+    const pixels = new Uint32Array(this.image.data.buffer);
+    pixels.fill(0);
+    paint(pixels);
+    ctx.putImageData(this.image, 0, 0);
+    return true;
+  }
+}
+
+/** Traces a closed polygon (map frame) as a screen path; call fill / stroke / clip after. */
+export function tracePolygon(ctx: CanvasRenderingContext2D, view: ViewTransform, points: readonly (readonly [number, number])[]): void {
+  ctx.beginPath();
+  points.forEach(([x, y], i) => {
+    const sx = view.toScreenX(x);
+    const sy = view.toScreenY(y);
+    if (i === 0) ctx.moveTo(sx, sy);
+    else ctx.lineTo(sx, sy);
+  });
+  ctx.closePath();
+}
+
+/**
+ * Hatches the current path: diagonal lines `spacing` screen pixels apart, clipped to it. The
+ * lines are fixed to the screen, so neighbouring areas hatch seamlessly.
+ */
+export function hatchCurrentPath(ctx: CanvasRenderingContext2D, bounds: { minX: number; minY: number; maxX: number; maxY: number }, color: string, spacing = 8, width = 1.5): void {
+  ctx.save();
+  ctx.clip();
+  ctx.strokeStyle = color;
+  ctx.lineWidth = width;
+  ctx.beginPath();
+  const h = bounds.maxY - bounds.minY;
+  // Lines x - y = c (45 degrees on screen), c on a lattice of `spacing` so they do not crawl on pan.
+  const start = Math.floor((bounds.minX - bounds.maxY) / spacing) * spacing;
+  for (let c = start; c <= bounds.maxX - bounds.minY; c += spacing) {
+    ctx.moveTo(c + bounds.minY, bounds.minY);
+    ctx.lineTo(c + bounds.minY + h, bounds.maxY);
+  }
+  ctx.stroke();
+  ctx.restore();
+}

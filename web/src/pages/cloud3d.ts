@@ -421,7 +421,8 @@ export class CloudPage {
     this.dirty = false;
     const t = this.tracker;
     const progress = t.progress;
-    const percent = Math.round(progress * 100);
+    // Floored: "100 %" only once the bar is full (0.996 rounded read 100 over a part-filled bar).
+    const percent = progress >= 1 ? 100 : Math.floor(progress * 100);
     this.progressFill.style.width = `${(progress * 100).toFixed(1)}%`;
     this.progressBar.dataset.progress = progress.toFixed(4);
     this.progressBar.setAttribute('aria-valuenow', String(percent));

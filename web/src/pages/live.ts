@@ -1,10 +1,16 @@
-// The Live page: map canvas with robot, scan, sonar and truth; status, link statistics, events
-// and teleop panels.
+// The Live page: map canvas with robot, scan, sonar, IR, costmaps, particles and truth; status,
+// link statistics, events and teleop panels.
 
 import type { RobotStatus } from '../api';
+import { costColor, cssColor } from '../costmap';
+import type { Costmap } from '../costmap';
 import type { LaserScan, MapGrid, Pose2D } from '../frames';
 import type { SonarReading } from '../map/layers/sonar';
 import { LAYER_SWITCHES } from '../map/layer';
+import type { LayerSwitch } from '../map/layer';
+import type { ParticleSet } from '../particles';
+import { setParts, showMethod } from '../status_text';
+import type { TileUpdate } from '../tiles';
 import { MapView } from '../map/mapview';
 import type { StreamClient } from '../stream';
 import { mountJoystick, TeleopController } from '../teleop';
@@ -29,6 +35,14 @@ export interface RobotEvent {
 }
 
 const MAX_EVENTS = 200;
+/** The particles topic runs at 5 Hz while the filter does: a cloud this old (ms) is the filter's last, and goes. */
+const PARTICLES_STALE_MS = 2000;
+
+/** Costs shown in the costmap legend, one per swatch (data-cost). */
+const LEGEND_COSTS: Record<string, number> = { free: 0, inflated: 128, inscribed: 253, lethal: 254, unknown: 255 };
+
+/** Toggles shown only when the hello advertises their topic. */
+const TOPIC_TOGGLES: Record<string, LayerSwitch> = { ir: 'ir', particles: 'particles', costmap: 'costmap', local_costmap: 'localCostmap' };
 
 /** A standard deviation in cm (mm below 1 cm would read as 0.0). */
 function cm(metres: number): string {
@@ -39,6 +53,8 @@ function cm(metres: number): string {
 export class LivePage {
   readonly mapView: MapView;
   readonly teleop: TeleopController;
+  /** Called when the particle cloud went stale and was dropped. */
+  onParticlesStale: (() => void) | null = null;
   poseCount = 0;
   lastPose: PoseData | null = null;
   status: RobotStatus | null = null;
@@ -46,6 +62,7 @@ export class LivePage {
   private events: RobotEvent[] = [];
   private eventsDirty = false;
   private poseDirty = false;
+  private particlesAt = 0;
 
   constructor(
     private readonly stream: StreamClient,
@@ -59,7 +76,20 @@ export class LivePage {
     byId('trail-clear').addEventListener('click', () => this.mapView.layers.trail.clear());
     for (const layer of LAYER_SWITCHES) {
       const box = byId<HTMLInputElement>(`layer-${layer}`);
-      box.addEventListener('change', () => this.mapView.setLayerShown(layer, box.checked));
+      // The checkbox as the page has it decides (a browser may restore a state on reload).
+      this.mapView.setLayerShown(layer, box.checked);
+      box.addEventListener('change', () => {
+        this.mapView.setLayerShown(layer, box.checked);
+        this.showCostmapLegend();
+      });
+    }
+    for (const swatch of document.querySelectorAll<HTMLElement>('[data-cost]')) {
+      const cost = LEGEND_COSTS[swatch.dataset.cost ?? ''];
+      if (cost === undefined) continue;
+      // One source for the overlay and its legend: costmap.ts.
+      swatch.style.background = swatch.classList.contains('sw-inflated')
+        ? `linear-gradient(90deg, ${cssColor(costColor(1))}, ${cssColor(costColor(252))})`
+        : cssColor(costColor(cost));
     }
 
     this.teleop = new TeleopController({
@@ -88,7 +118,10 @@ export class LivePage {
     this.poseCount++;
     this.lastPose = data;
     this.poseDirty = true;
-    this.mapView.setPose(data);
+    // Whatever the estimator (EKF, particle filter, odometry): a pose without its own covariance
+    // is drawn with the one /robot last reported.
+    const cov = Array.isArray(data.cov) && data.cov.length === 9 ? data.cov : this.status?.localization?.cov;
+    this.mapView.setPose(cov ? { ...data, cov } : data);
   }
 
   onScan(scan: LaserScan): void {
@@ -100,8 +133,60 @@ export class LivePage {
     byId('map-empty').hidden = true;
   }
 
+  /** Changed tiles of the map being built (mapping). */
+  onTiles(update: TileUpdate): void {
+    this.mapView.setTiles(update);
+    if (this.mapView.tiles.size > 0) byId('map-empty').hidden = true;
+  }
+
   onSonar(data: { readings?: SonarReading[] }): void {
     if (Array.isArray(data.readings)) this.mapView.layers.sonar.set(data.readings);
+  }
+
+  /** The IR ring: the same reading shape as the sonar's. */
+  onIr(data: { readings?: SonarReading[] }): void {
+    if (Array.isArray(data.readings)) this.mapView.layers.ir.set(data.readings);
+  }
+
+  onCostmap(costmap: Costmap): void {
+    const layer = costmap.which === 'local' ? this.mapView.layers.localCostmap : this.mapView.layers.costmap;
+    layer.set(costmap);
+    this.showCostmapLegend();
+  }
+
+  /** A particle cloud; null (or none for PARTICLES_STALE_MS) when the filter stopped. */
+  onParticles(particles: ParticleSet | null): void {
+    this.particlesAt = particles ? performance.now() : 0;
+    this.mapView.layers.particles.set(particles);
+  }
+
+  /** Whether a particle cloud came recently (the filter runs). */
+  get particlesLive(): boolean {
+    return this.particlesAt > 0 && performance.now() - this.particlesAt < PARTICLES_STALE_MS;
+  }
+
+  /** The hello's topics: the toggles (and legend rows) of topics this server has are shown. */
+  setTopicsAvailable(topics: readonly string[]): void {
+    for (const [topic, layer] of Object.entries(TOPIC_TOGGLES)) {
+      const available = topics.includes(topic);
+      byId(`layer-${layer}-label`).hidden = !available;
+      if (!available) {
+        if (layer === 'ir') this.mapView.layers.ir.set([]);
+        if (layer === 'particles') this.mapView.layers.particles.set(null);
+        if (layer === 'costmap') this.mapView.layers.costmap.set(null);
+        if (layer === 'localCostmap') this.mapView.layers.localCostmap.set(null);
+      }
+    }
+    document.body.classList.toggle('has-ir', topics.includes('ir'));
+    document.body.classList.toggle('has-particles', topics.includes('particles'));
+    this.showCostmapLegend();
+  }
+
+  /** The costmap legend shows while a costmap is drawn. */
+  private showCostmapLegend(): void {
+    const shown = (layer: LayerSwitch, has: boolean) => has && byId<HTMLInputElement>(`layer-${layer}`).checked;
+    const on = shown('costmap', this.mapView.layers.costmap.cells > 0) || shown('localCostmap', this.mapView.layers.localCostmap.cells > 0);
+    document.body.classList.toggle('costmap', on);
   }
 
   onTruth(data: { pose: Pose2D; collisions: number }): void {
@@ -150,15 +235,15 @@ export class LivePage {
     if (this.poseDirty) {
       this.poseDirty = false;
       const p = this.lastPose ?? this.status?.pose;
-      if (p) byId('st-pose').textContent = `x ${fmt(p.x)}  y ${fmt(p.y)}  θ ${deg(p.theta)}`;
+      if (p) setParts(byId('st-pose'), [`x ${fmt(p.x)}`, `y ${fmt(p.y)}`, `θ ${deg(p.theta)}`]);
       const v = this.lastPose ? { v: this.lastPose.v, w: this.lastPose.w } : this.status?.velocity;
-      if (v) byId('st-vel').textContent = `v ${fmt(v.v)} m/s  w ${fmt(v.w)} rad/s`;
+      if (v) setParts(byId('st-vel'), [`v ${fmt(v.v)} m/s`, `w ${fmt(v.w)} rad/s`]);
       const cov = this.lastPose?.cov ?? this.status?.localization?.cov;
       if (Array.isArray(cov) && cov.length === 9) {
         const sx = Math.sqrt(Math.max(0, cov[0]!));
         const sy = Math.sqrt(Math.max(0, cov[4]!));
         const st = headingSigma(cov);
-        byId('st-sigma').textContent = `x ${cm(sx)} y ${cm(sy)} θ ${st === null ? '–' : deg(st)}`;
+        setParts(byId('st-sigma'), [`x ${cm(sx)}`, `y ${cm(sy)}`, `θ ${st === null ? '–' : deg(st)}`]);
       }
       if (this.truth) {
         const t = this.truth.pose;
@@ -178,7 +263,7 @@ export class LivePage {
     const mode = byId('st-mode');
     mode.textContent = s.mode;
     mode.dataset.mode = s.mode;
-    byId('st-loc').textContent = s.localization?.method ?? '–';
+    showMethod(byId('st-loc'), s.localization?.method);
     const estop = byId('st-estop');
     estop.textContent = s.estop ? 'ENGAGED' : 'released';
     estop.className = s.estop ? 'bad' : 'good';
@@ -215,6 +300,10 @@ export class LivePage {
   }
 
   private refreshLink(): void {
+    if (this.particlesAt > 0 && !this.particlesLive) {
+      this.onParticles(null);
+      this.onParticlesStale?.();
+    }
     const stats = this.stream.stats;
     byId('lnk-rtt').textContent = this.stream.rttMs === null ? '–' : `${fmt(this.stream.rttMs, 1)} ms`;
     const pose = stats.get('pose') ?? stats.get('scan');

@@ -1,4 +1,5 @@
-// A metre grid behind everything while there is no map yet, so pan and zoom still show something.
+// A metre grid behind everything while there is no whole map (none yet, or one being built from
+// tiles), so pan and zoom still show something.
 
 import type { MapFrame, MapLayer } from '../layer';
 
@@ -10,7 +11,7 @@ export class GridLayer implements MapLayer {
   readonly id = 'grid';
 
   draw({ ctx, view, width, height, scene }: MapFrame): void {
-    if (scene.map) return;
+    if (scene.map && scene.tiles.size === 0) return;
     let step = 1;
     while (step * view.scale < MIN_SPACING_PX) step *= 5;
     const [x0, y1] = view.toWorld(0, 0);

@@ -1,5 +1,6 @@
 // The occupancy grid (the `map` topic): free cells dark, occupied light, unknown navy. Painted once
 // per map into an offscreen image of one pixel per cell, which the view transform then places.
+// While a map is being built (tiles in the scene) the tiles layer draws that one instead.
 
 import { UNKNOWN_CELL } from '../../frames';
 import type { MapGrid } from '../../frames';
@@ -26,12 +27,13 @@ function buildPalette(): Uint32Array {
   return lut;
 }
 
-const PALETTE = buildPalette();
+/** Cell value -> RGBA (little-endian u32, ImageData order); also paints the tiles of a map being built. */
+export const OCCUPANCY_PALETTE = buildPalette();
 
 /** Paints a grid into RGBA pixels, image row r = grid row r (flipped by the view transform). */
 export function paintGrid(map: MapGrid, pixels: Uint32Array): void {
   const n = map.width * map.height;
-  for (let i = 0; i < n; i++) pixels[i] = PALETTE[map.cells[i] ?? UNKNOWN_CELL]!;
+  for (let i = 0; i < n; i++) pixels[i] = OCCUPANCY_PALETTE[map.cells[i] ?? UNKNOWN_CELL]!;
 }
 
 export class MapImageLayer implements MapLayer {
@@ -42,7 +44,7 @@ export class MapImageLayer implements MapLayer {
 
   draw({ ctx, view, dpr, scene }: MapFrame): void {
     const map = scene.map;
-    if (!map) return;
+    if (!map || scene.tiles.size > 0) return;
     if (map !== this.paintedMap) this.paint(map);
     if (this.image) drawGridImage(ctx, view, dpr, this.image, map.origin, map.resolution);
   }

@@ -1,8 +1,10 @@
 // Sonar cones (the `sonar` topic): each reading as a translucent wedge out to its range, with an
 // arc at the range when it is an echo (inside [range_min, range_max)) rather than "nothing seen".
+// The IR ring (ir.ts) draws its readings, which have the same shape, with drawRangeCone.
 
 import type { MapFrame, MapLayer, Redraw } from '../layer';
 
+/** One range sensor's reading, its pose in the map frame (the `sonar` and `ir` topics). */
 export interface SonarReading {
   x: number;
   y: number;
@@ -13,8 +15,12 @@ export interface SonarReading {
   range_max: number;
 }
 
-const CONE_FILL = 'rgba(56, 189, 248, 0.10)';
-const ECHO_STROKE = 'rgba(56, 189, 248, 0.55)';
+export interface ConeStyle {
+  fill: string;
+  echo: string;
+}
+
+const SONAR_STYLE: ConeStyle = { fill: 'rgba(56, 189, 248, 0.10)', echo: 'rgba(56, 189, 248, 0.55)' };
 /** Narrowest cone drawn (rad), so a zero-width beam still shows. */
 const MIN_CONE_RAD = 0.01;
 
@@ -31,11 +37,12 @@ export class SonarLayer implements MapLayer {
   }
 
   draw(frame: MapFrame): void {
-    for (const reading of this.readings) drawCone(frame, reading);
+    for (const reading of this.readings) drawRangeCone(frame, reading, SONAR_STYLE);
   }
 }
 
-function drawCone({ ctx, view }: MapFrame, r: SonarReading): void {
+/** A reading as a wedge out to its range (filled), with the echo arc when something echoed. */
+export function drawRangeCone({ ctx, view }: MapFrame, r: SonarReading, style: ConeStyle): void {
   const echo = r.range >= r.range_min && r.range < r.range_max;
   const range = Math.min(Math.max(r.range, 0), r.range_max);
   if (!(range > 0)) return;
@@ -49,12 +56,12 @@ function drawCone({ ctx, view }: MapFrame, r: SonarReading): void {
   ctx.moveTo(sx, sy);
   ctx.arc(sx, sy, radius, from, to);
   ctx.closePath();
-  ctx.fillStyle = CONE_FILL;
+  ctx.fillStyle = style.fill;
   ctx.fill();
   if (echo) {
     ctx.beginPath();
     ctx.arc(sx, sy, radius, from, to);
-    ctx.strokeStyle = ECHO_STROKE;
+    ctx.strokeStyle = style.echo;
     ctx.lineWidth = 2;
     ctx.stroke();
   }

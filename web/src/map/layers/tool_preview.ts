@@ -15,7 +15,7 @@ export class ToolPreviewLayer implements MapLayer {
 
   draw(frame: MapFrame): void {
     const { tool, press, cursor } = frame.scene.pointer;
-    if (!tool) return;
+    if (!tool || tool.ownPreview) return;
     const at = press ? [press.x, press.y] : cursor;
     if (!at) return;
     const [sx, sy] = frame.view.toScreen(at[0]!, at[1]!);
