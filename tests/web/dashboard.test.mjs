@@ -642,6 +642,23 @@ async function main() {
         await page.selectOption('[data-testid=sweep-period]', '10');
         await page.selectOption('[data-testid=sweep-step]', '1');
         const before = (await page.evaluate(() => window.__mobot.sweep.id)) ?? 0;
+        // Every animation frame until the bar reads 1: how far the fill's box is from the value the bar
+        // shows (a width transition restarted by each refresh let it lag by a quarter of the track).
+        const lagged = page.evaluate(() => new Promise((resolve) => {
+          const track = document.querySelector('[data-testid=sweep-progress]');
+          const started = performance.now();
+          let worst = { lag: 0, label: '' };
+          let running = false;
+          const tick = () => {
+            const progress = Number(track.dataset.progress);
+            if (progress < 1) running = true;
+            const fill = track.querySelector('.fill').getBoundingClientRect().width / track.clientWidth;
+            if (Math.abs(progress - fill) > worst.lag) worst = { lag: Math.abs(progress - fill), label: track.textContent.trim(), fill };
+            if ((running && progress >= 1) || performance.now() - started > 40_000) resolve(worst);
+            else requestAnimationFrame(tick);
+          };
+          tick();
+        }));
         await page.click('[data-testid=sweep-start]');
         await page.waitForFunction((id) => (window.__mobot.sweep.id ?? 0) > id, before, { timeout: 3000 });
         const id = await page.evaluate(() => window.__mobot.sweep.id);
@@ -669,6 +686,8 @@ async function main() {
         if (!/^100 %/.test(bar.label) || bar.fill < bar.inner - 0.5 || Math.abs(bar.fillLeft) > 0.5) {
           throw new Error(`at "${bar.label}" the fill is ${bar.fill.toFixed(1)} px of a ${bar.inner} px track (from ${bar.fillLeft.toFixed(1)} px)`);
         }
+        const lag = await lagged;
+        if (lag.lag > 0.01) throw new Error(`the fill lagged the bar's value by ${(lag.lag * 100).toFixed(1)} % of the track (at "${lag.label}" it covered ${(lag.fill * 100).toFixed(1)} %)`);
         const seen = await page.evaluate(() => window.__mobot.sweep.progressSeen);
         const between = seen.filter((p) => p > 0 && p < 1);
         if (between.length < 2 || seen[seen.length - 1] !== 1) throw new Error(`the progress bar showed ${JSON.stringify(seen)}`);
@@ -681,7 +700,7 @@ async function main() {
         await page.click('[data-testid=cloud-reset-view]');
         await sleep(300);
         await screenshot(page, 'cloud3d.png');
-        return `sweep #${id}: ${info.points} points drawn, ${info.mode.scans} scans, progress ${seen.map((p) => p.toFixed(2)).join(' ')}; at 100 % the fill is ${bar.fill.toFixed(0)} of ${bar.inner} px`;
+        return `sweep #${id}: ${info.points} points drawn, ${info.mode.scans} scans, progress ${seen.map((p) => p.toFixed(2)).join(' ')}; at 100 % the fill is ${bar.fill.toFixed(0)} of ${bar.inner} px, at most ${(lag.lag * 100).toFixed(2)} % off while running`;
       } finally {
         await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 1 });
       }
