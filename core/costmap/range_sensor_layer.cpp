@@ -60,6 +60,7 @@ bool RangeSensorLayer::add_readings(std::span<const msgs::RangeReading> readings
       cone.clear_to_m = reading.range_max_m;
     } else {
       cone.clear_to_m = range;  // less the arc's half thickness, applied with the grid known
+      cone.echo = true;
       if (trusted) cone.mark_at_m = range;
     }
     pending_.push_back(cone);
@@ -87,8 +88,7 @@ void RangeSensorLayer::clear_cone(const Cone& cone, CellBounds& bounds) {
   const double res = grid_.resolution_m();
   const double half_thickness = options_.arc_thickness_m > 0.0 ? 0.5 * options_.arc_thickness_m
                                                                : res * std::numbers::sqrt2 / 2;
-  const double clear_to =
-      cone.mark_at_m >= 0.0 ? cone.clear_to_m - half_thickness : cone.clear_to_m;
+  const double clear_to = cone.echo ? cone.clear_to_m - half_thickness : cone.clear_to_m;
   if (clear_to <= 0.0) return;
   const geometry::Point2D origin{cone.sensor_in_map.x, cone.sensor_in_map.y};
   const double ux = std::cos(cone.sensor_in_map.theta);
@@ -108,7 +108,7 @@ void RangeSensorLayer::clear_cone(const Cone& cone, CellBounds& bounds) {
     }
   }
   // The axis, for cones too narrow to hold a cell centre. It stops a cell short of the echo.
-  const double axis_to = cone.mark_at_m >= 0.0 ? std::max(0.0, clear_to - 0.5 * res) : clear_to;
+  const double axis_to = cone.echo ? std::max(0.0, clear_to - 0.5 * res) : clear_to;
   const auto segment =
       clip_to_grid(grid_, origin, {origin.x + axis_to * ux, origin.y + axis_to * uy});
   if (!segment) return;

@@ -59,7 +59,8 @@ class RangeSensorLayer : public CostmapLayer {
   struct Cone {
     geometry::Pose2D sensor_in_map;
     double half_angle_rad = 0.0;
-    double clear_to_m = 0.0;  // cells nearer than this are cleared
+    double clear_to_m = 0.0;  // the echo's range, or range_max when nothing echoed
+    bool echo = false;        // something echoed at clear_to_m: clear short of its arc
     double mark_at_m = -1.0;  // < 0: nothing to mark
   };
 

@@ -99,7 +99,10 @@ TEST(PlanningGridBuilder, MergesACoarserRotatedExtraGridAndPoints) {
   PlanningGridOptions options;
   options.inscribed_radius_m = 0.0;
   options.inflation_margin_m = 0.0;
-  const PlanningGrid grid = PlanningGridBuilder(options).build(map, {grids, points});
+  ExtraObstacles obstacles;
+  obstacles.grids = grids;
+  obstacles.points_in_map = points;
+  const PlanningGrid grid = PlanningGridBuilder(options).build(map, obstacles);
   int lethal = 0;
   for (int y = 0; y < 100; ++y) {
     for (int x = 0; x < 100; ++x) lethal += grid.cost({x, y}) == PlanningGrid::kLethal ? 1 : 0;
@@ -115,7 +118,9 @@ TEST(PlanningGridBuilder, MergesACoarserRotatedExtraGridAndPoints) {
   OccupancyGrid rotated(5, 5, 0.2, {2.5, 2.5, std::numbers::pi / 4.0}, OccupancyGrid::kFree);
   rotated.set({0, 0}, OccupancyGrid::kOccupied);
   const std::vector<OccupancyGrid> rotated_grids{rotated};
-  const PlanningGrid diamond = PlanningGridBuilder(options).build(map, {rotated_grids, {}});
+  ExtraObstacles rotated_extra;
+  rotated_extra.grids = rotated_grids;
+  const PlanningGrid diamond = PlanningGridBuilder(options).build(map, rotated_extra);
   const auto centre = diamond.cell_at({2.5, 2.5 + 0.1414});  // the diamond's centre
   ASSERT_TRUE(centre.has_value());
   EXPECT_EQ(diamond.cost(*centre), PlanningGrid::kLethal);
@@ -125,7 +130,9 @@ TEST(PlanningGridBuilder, MergesACoarserRotatedExtraGridAndPoints) {
 TEST(PlanningGridBuilder, AnExtraObstacleInUnknownSpaceIsLethal) {
   OccupancyGrid map(10, 10, kRes, {}, OccupancyGrid::kUnknown);
   const std::vector<geometry::Point2D> points{{0.26, 0.26}};
-  const PlanningGrid grid = PlanningGridBuilder().build(map, {{}, points});
+  ExtraObstacles extra;
+  extra.points_in_map = points;
+  const PlanningGrid grid = PlanningGridBuilder().build(map, extra);
   EXPECT_EQ(grid.cost({5, 5}), PlanningGrid::kLethal);
   EXPECT_EQ(grid.cost({4, 5}), PlanningGrid::kUnknown);
 }
