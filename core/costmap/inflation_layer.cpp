@@ -11,6 +11,12 @@ using planning::PlanningGrid;
 
 bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
+// floor(num / den) for den > 0 (integer division truncates toward zero).
+std::int64_t floor_div(std::int64_t num, std::int64_t den) {
+  const std::int64_t q = num / den;
+  return (num % den != 0 && num < 0) ? q - 1 : q;
+}
+
 }  // namespace
 
 InflationLayer::InflationLayer(const InflationLayerOptions& options) : options_(options) {
@@ -57,33 +63,47 @@ void InflationLayer::inflate(PlanningGrid& grid, const CellBounds& bounds) {
   const int sw = s.width();
   const int sh = s.height();
   std::vector<std::uint8_t>& costs = grid.mutable_costs();
-  const bool unknown_is_source = options_.inflate_unknown;
-  const auto is_source = [unknown_is_source](std::uint8_t cost) {
-    return cost == PlanningGrid::kLethal || (unknown_is_source && cost == PlanningGrid::kUnknown);
-  };
 
   // Pass 1: vertical distance (in cells) to the nearest source in the same column, capped at
-  // reach + 1 ("too far to matter"). Row by row, so the inner loops run along memory.
+  // reach + 1 ("too far to matter"). Row by row, so the inner loops run along memory; in blocks of
+  // kLanes through a local buffer, which the compiler turns into vector code.
   const auto far = static_cast<std::uint16_t>(reach + 1);
+  const std::uint8_t other_source =
+      options_.inflate_unknown ? PlanningGrid::kUnknown : PlanningGrid::kLethal;
   column_cells_.resize(static_cast<std::size_t>(sw) * static_cast<std::size_t>(sh));
   std::uint16_t* g = column_cells_.data();
+  const auto next_from = [far, other_source](std::uint8_t cost, std::uint16_t below) {
+    const bool source = cost == PlanningGrid::kLethal || cost == other_source;
+    const auto next = std::min<std::uint16_t>(static_cast<std::uint16_t>(below + 1), far);
+    return source ? std::uint16_t{0} : next;
+  };
+  constexpr int kLanes = 16;
   for (int j = 0; j < sh; ++j) {
     const std::uint8_t* src = costs.data() + grid.index_of({s.min_x, s.min_y + j});
     std::uint16_t* out = g + static_cast<std::ptrdiff_t>(j) * sw;
-    if (j == 0) {
-      for (int i = 0; i < sw; ++i) out[i] = is_source(src[i]) ? 0 : far;
-      continue;
+    // The row below the region counts as "far": sources outside it are out of reach.
+    const std::uint16_t* below = j == 0 ? nullptr : out - sw;
+    int i = 0;
+    for (; below != nullptr && i + kLanes <= sw; i += kLanes) {
+      std::uint16_t block[kLanes];
+      for (int l = 0; l < kLanes; ++l) block[l] = next_from(src[i + l], below[i + l]);
+      std::copy(block, block + kLanes, out + i);
     }
-    const std::uint16_t* below = out - sw;
-    for (int i = 0; i < sw; ++i) {
-      const auto next = static_cast<std::uint16_t>(std::min<int>(below[i] + 1, far));
-      out[i] = is_source(src[i]) ? 0 : next;
-    }
+    for (; i < sw; ++i) out[i] = next_from(src[i], below == nullptr ? far : below[i]);
   }
   for (int j = sh - 2; j >= 0; --j) {
     std::uint16_t* out = g + static_cast<std::ptrdiff_t>(j) * sw;
     const std::uint16_t* above = out + sw;
-    for (int i = 0; i < sw; ++i) {
+    int i = 0;
+    for (; i + kLanes <= sw; i += kLanes) {
+      std::uint16_t block[kLanes];
+      for (int l = 0; l < kLanes; ++l) {
+        block[l] =
+            std::min<std::uint16_t>(out[i + l], static_cast<std::uint16_t>(above[i + l] + 1));
+      }
+      std::copy(block, block + kLanes, out + i);
+    }
+    for (; i < sw; ++i) {
       out[i] = std::min<std::uint16_t>(out[i], static_cast<std::uint16_t>(above[i] + 1));
     }
   }
@@ -131,16 +151,26 @@ void InflationLayer::inflate(PlanningGrid& grid, const CellBounds& bounds) {
       }
     }
     if (k < 0) continue;  // no source within reach of this row
-    std::uint8_t* out = costs.data() + grid.index_of({0, y});
-    int j = 0;
-    for (int x = b.min_x; x <= b.max_x; ++x) {
-      const std::int64_t i = x - s.min_x;
-      while (j < k && zn[j + 1] < i * zd[j + 1]) ++j;
-      const std::int64_t d2 = i * i - 2 * i * vx[j] + vf[j];
-      if (d2 > max_squared) continue;
-      const std::uint8_t cost = table[d2];
-      std::uint8_t& cell = out[x];
-      if (cell != PlanningGrid::kUnknown && cost > cell) cell = cost;
+    // Each envelope piece j rules x in (z[j], z[j + 1]]; only the part within `reach` of its site
+    // can be inflated, so rows far from every obstacle cost a visit per piece, not per cell.
+    std::uint8_t* out = costs.data() + grid.index_of({s.min_x, y});
+    const int first = b.min_x - s.min_x;
+    const int last = b.max_x - s.min_x;
+    for (int j = 0; j <= k; ++j) {
+      // The piece's integer range: x > z[j] and x <= z[j + 1] (z as num / den, den > 0).
+      int lo = j == 0 ? first : static_cast<int>(floor_div(zn[j], zd[j])) + 1;
+      int hi = j == k ? last : static_cast<int>(floor_div(zn[j + 1], zd[j + 1]));
+      lo = std::max({lo, first, vx[j] - reach});
+      hi = std::min({hi, last, vx[j] + reach});
+      const std::int64_t g2 = vf[j] - static_cast<std::int64_t>(vx[j]) * vx[j];
+      for (int i = lo; i <= hi; ++i) {
+        const std::int64_t dx = i - vx[j];
+        const std::int64_t d2 = dx * dx + g2;
+        if (d2 > max_squared) continue;
+        const std::uint8_t cost = table[d2];
+        std::uint8_t& cell = out[i];
+        if (cell != PlanningGrid::kUnknown && cost > cell) cell = cost;
+      }
     }
   }
 }
