@@ -1,11 +1,13 @@
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string_view>
 
 #include "core/geometry/pose2d.h"
 #include "core/msgs/twist.h"
 #include "core/planning/path.h"
+#include "core/planning/planning_grid.h"
 
 namespace mobot::control {
 
@@ -42,6 +44,9 @@ class PathTracker {
   virtual msgs::Twist compute(const geometry::Pose2D& pose, const msgs::Twist& velocity,
                               double now_s) = 0;
   virtual TrackerStatus status() const = 0;
+  // The rolling local costmap (map frame) as of this tick, given before compute(); trackers that
+  // steer around obstacles (DWA, VFH) read it, the others ignore it.
+  virtual void set_local_costmap(std::shared_ptr<const planning::PlanningGrid> /*costmap*/) {}
 
   bool arrived() const { return status().state == TrackerState::kArrived; }
 };
