@@ -26,19 +26,20 @@ export interface NavError {
 const OBSTACLE_RADIUS_M = 0.25;
 const OBSTACLE_HEIGHT_M = 1.0;
 
-const MODE_INFO: Record<NavMode, { button: string; color: string; text: string }> = {
+const MODE_INFO: Record<NavMode, { buttons: string[]; color: string; text: string }> = {
   goal: {
-    button: 'goal-mode',
+    buttons: ['goal-mode'],
     color: '#34d399',
     text: 'Set goal · press for the position, drag for the heading',
   },
   obstacle: {
-    button: 'sim-obstacle-mode',
+    buttons: ['sim-obstacle-mode'],
     color: '#fb923c',
     text: 'Drop obstacle · click where the 0.25 m post goes',
   },
+  // Any backend: the Localization card has the button too (the Simulation card only with a simulator).
   pose: {
-    button: 'sim-pose-mode',
+    buttons: ['sim-pose-mode', 'loc-set-pose'],
     color: '#c4b5fd',
     text: 'Set initial pose · press at the position, drag for the heading',
   },
@@ -86,6 +87,7 @@ export class NavigationPanel {
     byId('goal-mode').addEventListener('click', () => this.toggleMode('goal'));
     byId('sim-obstacle-mode').addEventListener('click', () => this.toggleMode('obstacle'));
     byId('sim-pose-mode').addEventListener('click', () => this.toggleMode('pose'));
+    byId('loc-set-pose').addEventListener('click', () => this.toggleMode('pose'));
     byId('map-mode-cancel').addEventListener('click', () => this.setMode(null));
     byId('goal-cancel').addEventListener('click', () => void this.cancel());
     window.addEventListener('keydown', (e) => this.onKey(e));
@@ -141,7 +143,7 @@ export class NavigationPanel {
 
   setSimAvailable(available: boolean): void {
     this.simAvailable = available;
-    if (!available && (this.mode === 'obstacle' || this.mode === 'pose')) this.setMode(null);
+    if (!available && this.mode === 'obstacle') this.setMode(null);
   }
 
   /** The server restarted or the simulator was reset: none of the obstacles we dropped is left. */
@@ -157,12 +159,14 @@ export class NavigationPanel {
   }
 
   setMode(mode: NavMode | null): void {
-    if ((mode === 'obstacle' || mode === 'pose') && !this.simAvailable) mode = null;
+    if (mode === 'obstacle' && !this.simAvailable) mode = null;
     this.mode = mode;
     for (const [name, info] of Object.entries(MODE_INFO)) {
-      const button = byId(info.button);
-      button.classList.toggle('active', name === mode);
-      button.setAttribute('aria-pressed', String(name === mode));
+      for (const id of info.buttons) {
+        const button = byId(id);
+        button.classList.toggle('active', name === mode);
+        button.setAttribute('aria-pressed', String(name === mode));
+      }
     }
     const banner = byId('map-mode');
     banner.hidden = !mode;
@@ -202,7 +206,7 @@ export class NavigationPanel {
     } else if (key === 'o' && this.simAvailable) {
       this.toggleMode('obstacle');
       e.preventDefault();
-    } else if (key === 'p' && this.simAvailable) {
+    } else if (key === 'p') {
       this.toggleMode('pose');
       e.preventDefault();
     }

@@ -17,6 +17,9 @@ export const WANTED_TOPICS = [
   'costmap', 'local_costmap', 'particles',
 ];
 
+/** Topics only some servers have: without a topic list in the hello they are not asked for. */
+const OPTIONAL_TOPICS = ['truth', 'ir', 'costmap', 'local_costmap', 'particles'];
+
 export type ConnectionState = 'connecting' | 'connected' | 'disconnected' | 'auth_error';
 
 export interface HelloTopic {
@@ -360,7 +363,7 @@ export class StreamClient {
   private onHello(hello: Hello): void {
     const advertised = Array.isArray(hello.topics) ? hello.topics.map((t) => t.name) : null;
     const topics = WANTED_TOPICS.filter((name) =>
-      advertised ? advertised.includes(name) : name !== 'truth',
+      advertised ? advertised.includes(name) : !OPTIONAL_TOPICS.includes(name),
     );
     this.send({ op: 'subscribe', topics, encoding: 'binary' });
     this.options.handlers.hello?.(hello, topics);
