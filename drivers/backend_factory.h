@@ -3,12 +3,23 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "drivers/backend.h"
 
 namespace mobot::drivers {
+
+// The simulated odometry errors of the config's sim.odometry (docs/algorithms.md R2); an unset
+// field keeps the robot profile's own value.
+struct SimOdometryErrors {
+  std::optional<double> scale_error;
+  std::optional<double> heading_drift_rad_per_m;
+  std::optional<double> step_noise_fraction;
+
+  bool any() const { return scale_error || heading_drift_rad_per_m || step_noise_fraction; }
+};
 
 // What the config says about the devices.
 struct BackendOptions {
@@ -21,6 +32,7 @@ struct BackendOptions {
   double laser_rate_hz = 10.0;
   double sonar_rate_hz = 10.0;
   double compass_rate_hz = 10.0;
+  SimOdometryErrors odometry_errors;
 };
 
 // A backend that cannot be made as configured; the message names what is wrong.

@@ -1,15 +1,22 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/geometry/pose2d.h"
 #include "core/perception/tilt_sweep.h"
+#include "drivers/sim/sharp_ir_adc.h"
 
 namespace mobot::sim {
 
 // Everything the simulator needs to know about one robot: geometry, sensors, their noise, and the
-// systematic errors calibration is expected to find. docs/algorithms.md R1 gives the numbers.
+// systematic errors calibration is expected to find. docs/algorithms.md R1 and R2 give the numbers.
+// A field's default is "this robot does not have it" (no slip, no IR ring) so that R1 keeps its
+// numbers as new fields arrive.
 struct RobotProfile {
   // Nominal drive geometry: what the odometry is configured with before calibration.
   double wheel_radius_m = 0.0;
@@ -28,6 +35,8 @@ struct RobotProfile {
   double laser_range_min_m = 0.0;
   double laser_range_max_m = 0.0;
   double laser_range_sigma_m = 0.0;
+  // Triangulating lasers lose accuracy with range: sigma = max(laser_range_sigma_m, this * range).
+  double laser_range_sigma_fraction = 0.0;
 
   // The laser nods about its left-right axis for 3D sweeps (R1): pitch range, and the tilt speed
   // loop's +/- 5 % error as a ripple of this period.
@@ -35,12 +44,26 @@ struct RobotProfile {
   double tilt_speed_ripple_fraction = 0.05;
   double tilt_ripple_period_s = 1.7;
 
-  // Sonars sit in the laser plane (the simulator casts both in the same slice of the world).
+  // Sonars see the world at their own height (R1's sit in the laser plane).
+  double sonar_height_m = 0.0;
   std::vector<geometry::Pose2D> sonars_in_base;
   double sonar_cone_rad = 0.0;  // full opening angle
   double sonar_range_min_m = 0.0;
   double sonar_range_max_m = 0.0;
   double sonar_noise_fraction = 0.0;  // standard deviation as a fraction of the range
+
+  // Infrared rangers read by a microcontroller that reports raw ADC counts (R2's Sharp ring):
+  // the simulator produces the counts, the driver side converts them.
+  double ir_height_m = 0.0;
+  std::vector<geometry::Pose2D> ir_sensors_in_base;  // empty: no IR ring
+  double ir_cone_rad = 0.0;
+  double ir_rate_hz = 20.0;
+  SharpIrAdcOptions ir_adc;
+
+  // Devices the base carries; a missing one gets no driver.
+  bool has_compass = true;
+  bool has_omni_camera = true;
+  bool has_tilt_laser = true;
 
   double compass_sigma_rad = 0.0;
 
@@ -57,12 +80,52 @@ struct RobotProfile {
   // a first-order Gauss-Markov process, so its effect does not depend on the simulation step.
   double wheel_speed_noise_fraction = 0.0;
   double wheel_speed_noise_correlation_s = 0.5;
+  // Where the tyres meet the floor (R2): each wheel's ground travel is its turned travel times
+  // (1 + n), n a Gauss-Markov process with this standard deviation and correlation time, sampled
+  // exactly over each step (with its integral), so the drift does not depend on the step. The
+  // encoders see the turned travel only.
+  double slip_noise_fraction = 0.0;
+  double slip_noise_correlation_s = 0.01;
+  // A wheel's ground speed follows its turned speed no faster than this (traction): a hard start
+  // spins the wheel, a hard stop skids the base on. 0: unlimited.
+  double traction_accel_mps2 = 0.0;
 
   double max_linear_mps = 0.0;
   double max_angular_radps = 0.0;
 };
 
+// How odometry on the nominal geometry drifts from the truth, the way a base's owner measures it
+// (docs/algorithms.md R2): set_odometry_errors turns it into wheel scales and slip noise.
+struct OdometryErrors {
+  // The odometry reads (1 + this) times the distance the base really covered (tyres compressed
+  // under load roll a smaller radius than the nominal one).
+  double scale_error = 0.0;
+  // While the encoders count a straight line the base really turns left by this per metre
+  // (unequal wheel diameters); negative turns right.
+  double heading_drift_rad_per_m = 0.0;
+  // slip_noise_fraction.
+  double step_noise_fraction = 0.0;
+};
+
+// Sets the wheel scales (a common scale for scale_error, a left-right difference for the drift; the
+// track scale stays) and the slip noise. Throws std::invalid_argument for a scale error of -1 or
+// less, or a non-finite or negative noise.
+void set_odometry_errors(RobotProfile& profile, const OdometryErrors& errors);
+// What the profile's wheel scales and slip noise amount to.
+OdometryErrors odometry_errors_of(const RobotProfile& profile);
+
 // The multi-sensor differential robot of docs/algorithms.md R1.
 RobotProfile r1_profile();
+// The Dashgo D1 of docs/algorithms.md R2.
+RobotProfile dashgo_d1_profile();
+
+// The robots the simulator knows, by the name robot.profile gives: one entry each.
+struct NamedProfile {
+  std::string_view name;
+  RobotProfile (*make)();
+};
+std::span<const NamedProfile> robot_profiles();
+// nullopt for a name not in robot_profiles().
+std::optional<RobotProfile> profile_named(std::string_view name);
 
 }  // namespace mobot::sim

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "core/safety/sharp_ir_curve.h"
 #include "drivers/sim/sim_base.h"
 #include "drivers/sim/sim_sensor.h"
 #include "drivers/sim/sim_tilt_laser.h"
@@ -24,10 +25,42 @@ std::filesystem::path worlds_dir_of(const drivers::BackendOptions& options) {
                                     : options.worlds_dir;
 }
 
-RobotProfile profile_named(const std::string& name) {
-  if (name == "r1") return r1_profile();
-  throw drivers::BackendError("robot.profile: the simulator has no '" + name +
-                              "' robot; it has r1");
+RobotProfile configured_profile(const drivers::BackendOptions& options) {
+  std::optional<RobotProfile> profile = profile_named(options.profile);
+  if (!profile) {
+    std::string names;
+    for (const NamedProfile& entry : robot_profiles()) {
+      names += (names.empty() ? "" : ", ") + std::string(entry.name);
+    }
+    throw drivers::BackendError("robot.profile: the simulator has no '" + options.profile +
+                                "' robot; it has " + names);
+  }
+  const drivers::SimOdometryErrors& overrides = options.odometry_errors;
+  if (overrides.any()) {
+    OdometryErrors errors = odometry_errors_of(*profile);
+    errors.scale_error = overrides.scale_error.value_or(errors.scale_error);
+    errors.heading_drift_rad_per_m =
+        overrides.heading_drift_rad_per_m.value_or(errors.heading_drift_rad_per_m);
+    errors.step_noise_fraction = overrides.step_noise_fraction.value_or(errors.step_noise_fraction);
+    try {
+      set_odometry_errors(*profile, errors);
+    } catch (const std::invalid_argument& error) {
+      throw drivers::BackendError(std::string("sim.odometry: ") + error.what());
+    }
+  }
+  return *profile;
+}
+
+// The IR microcontroller's counts through the robot's calibration curve, as the real driver
+// converts them.
+msgs::IrRing ir_ring_from(const std::vector<int>& counts, const RobotProfile& profile,
+                          const safety::SharpIrCurve& curve) {
+  msgs::IrRing ring;
+  for (std::size_t i = 0; i < counts.size() && i < profile.ir_sensors_in_base.size(); ++i) {
+    ring.readings.push_back(
+        curve.reading(counts[i], profile.ir_sensors_in_base[i], profile.ir_cone_rad));
+  }
+  return ring;
 }
 
 }  // namespace
@@ -43,12 +76,23 @@ SimBackend::SimBackend(World world, RobotProfile profile, const drivers::Backend
       "laser", options.laser_rate_hz, [this] { return simulator_->read_laser(); });
   drivers_.sonar = std::make_unique<SimSensor<msgs::SonarRing>>(
       "sonar", options.sonar_rate_hz, [this] { return simulator_->read_sonar(); });
-  drivers_.compass = std::make_unique<SimSensor<msgs::CompassReading>>(
-      "compass", options.compass_rate_hz, [this] { return simulator_->read_compass(); });
-  // The omni camera's bearings are taken with the compass reading, as R1 reads them together.
-  drivers_.bearings = std::make_unique<SimSensor<msgs::LandmarkBearings>>(
-      "bearings", options.compass_rate_hz, [this] { return simulator_->read_landmark_bearings(); });
-  drivers_.tilt = std::make_unique<SimTiltLaser>(*this, seed_);
+  if (!profile_.ir_sensors_in_base.empty()) {
+    drivers_.ir = std::make_unique<SimSensor<msgs::IrRing>>(
+        "ir", profile_.ir_rate_hz, [this, curve = safety::SharpIrCurve(profile_.ir_adc.curve)] {
+          return ir_ring_from(simulator_->read_ir_adc(), profile_, curve);
+        });
+  }
+  if (profile_.has_compass) {
+    drivers_.compass = std::make_unique<SimSensor<msgs::CompassReading>>(
+        "compass", options.compass_rate_hz, [this] { return simulator_->read_compass(); });
+  }
+  if (profile_.has_omni_camera) {
+    // The omni camera's bearings are taken with the compass reading, as R1 reads them together.
+    drivers_.bearings = std::make_unique<SimSensor<msgs::LandmarkBearings>>(
+        "bearings", options.compass_rate_hz,
+        [this] { return simulator_->read_landmark_bearings(); });
+  }
+  if (profile_.has_tilt_laser) drivers_.tilt = std::make_unique<SimTiltLaser>(*this, seed_);
 }
 
 mapping::OccupancyGrid SimBackend::surveyed_map() const {
@@ -93,7 +137,7 @@ int SimBackend::add_obstacle(double x_m, double y_m, double radius_m, double hei
 }
 
 std::unique_ptr<SimBackend> make_sim_backend(const drivers::BackendOptions& options) {
-  RobotProfile profile = profile_named(options.profile);
+  RobotProfile profile = configured_profile(options);
   World world;
   try {
     world = load_world(resolve_world(worlds_dir_of(options), options.world));

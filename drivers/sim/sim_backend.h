@@ -48,8 +48,9 @@ class SimBackend final : public drivers::Backend, public drivers::SimControl {
   drivers::DriverSet drivers_;
 };
 
-// The profile named in the options ("r1") in the world named there. Throws BackendError for an
-// unknown profile or a world that cannot be loaded.
+// The profile named in the options ("r1", "dashgo_d1": robot_profiles()), with the options'
+// odometry errors, in the world named there. Throws BackendError for an unknown profile, bad
+// odometry errors or a world that cannot be loaded.
 std::unique_ptr<SimBackend> make_sim_backend(const drivers::BackendOptions& options);
 
 }  // namespace mobot::sim

@@ -18,12 +18,24 @@ constexpr double kMaxSubstepTravel_m = 0.02;
 // Bisections that place a colliding robot against the obstacle: 0.02 m / 2^10 = 0.02 mm.
 constexpr int kContactBisections = 10;
 constexpr int kSonarRaysPerCone = 7;
+// A Sharp ranger's spot is a few centimetres across: three rays span its beam.
+constexpr int kIrRaysPerBeam = 3;
 constexpr double kNoReturnBeyondMax_m = 1.0;
 // The bearing landmarks are lit cylinders 10 cm across (R1): a sight line that reaches the
 // cylinder's surface sees it.
 constexpr double kLandmarkRadius_m = 0.05;
 
-enum class Stream : std::uint32_t { kDrive = 1, kLaser, kSonar, kCompass, kCamera, kTilt };
+// New streams go at the end: the existing ones keep their seeds.
+enum class Stream : std::uint32_t {
+  kDrive = 1,
+  kLaser,
+  kSonar,
+  kCompass,
+  kCamera,
+  kTilt,
+  kSlip,
+  kIr
+};
 
 std::mt19937_64 random_stream(std::uint64_t seed, Stream stream) {
   std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -50,7 +62,47 @@ RobotProfile validated(RobotProfile p) {
       !std::isfinite(p.bearing_sigma_rad) || p.bearing_sigma_rad < 0.0) {
     throw std::invalid_argument("robot profile: camera range and bearing sigma must be >= 0");
   }
+  const auto non_negative = [](double value) { return std::isfinite(value) && value >= 0.0; };
+  if (!non_negative(p.sonar_height_m) || !non_negative(p.laser_range_sigma_fraction) ||
+      !non_negative(p.slip_noise_fraction) || !positive(p.slip_noise_correlation_s) ||
+      !non_negative(p.traction_accel_mps2)) {
+    throw std::invalid_argument(
+        "robot profile: sonar height, range sigma fraction, slip noise and traction must be >= 0 "
+        "and the slip correlation time > 0");
+  }
+  if (!p.ir_sensors_in_base.empty() &&
+      (!positive(p.ir_height_m) || !non_negative(p.ir_cone_rad) || !positive(p.ir_rate_hz))) {
+    throw std::invalid_argument(
+        "robot profile: an IR ring needs a height and a rate > 0 and a beam width >= 0");
+  }
   return p;
+}
+
+std::shared_ptr<const RayCaster> plane_at(const World& world, double z_m) {
+  return std::make_shared<const RayCaster>(slice_at_height(world, z_m));
+}
+
+// A sensor at the height of one already sliced shares that slice.
+std::shared_ptr<const RayCaster> plane_at(const World& world, double z_m,
+                                          const std::shared_ptr<const RayCaster>& same_as,
+                                          double same_as_z_m) {
+  return z_m == same_as_z_m ? same_as : plane_at(world, z_m);
+}
+
+WheelSlipOptions slip_options(const RobotProfile& p) {
+  return {p.slip_noise_fraction, p.slip_noise_correlation_s, p.traction_accel_mps2};
+}
+
+// The ring's sensor model before reset() draws each unit's gain.
+SharpIrAdc unseeded_ir_adc(const RobotProfile& p) {
+  std::mt19937_64 unused;
+  return SharpIrAdc(p.ir_adc, 0, unused);
+}
+
+int laser_beams(const RobotProfile& p) {
+  const int steps = static_cast<int>(std::lround(p.laser_fov_rad / p.laser_step_rad));
+  const bool full_circle = p.laser_fov_rad >= 2.0 * std::numbers::pi - p.laser_step_rad / 2.0;
+  return full_circle ? steps : steps + 1;
 }
 
 msgs::Twist clamp_command(const msgs::Twist& command, const RobotProfile& profile) {
@@ -64,9 +116,17 @@ msgs::Twist clamp_command(const msgs::Twist& command, const RobotProfile& profil
 Simulator::Simulator(World world, RobotProfile profile, std::uint64_t seed)
     : world_(std::move(world)),
       profile_(validated(std::move(profile))),
-      laser_plane_(slice_at_height(world_, profile_.laser_height_m)),
+      laser_plane_(plane_at(world_, profile_.laser_height_m)),
+      sonar_plane_(
+          plane_at(world_, profile_.sonar_height_m, laser_plane_, profile_.laser_height_m)),
+      ir_plane_(
+          profile_.ir_sensors_in_base.empty()
+              ? nullptr
+              : plane_at(world_, profile_.ir_height_m, sonar_plane_, profile_.sonar_height_m)),
       walls_(world_.floor),
-      body_(world_, profile_.footprint_length_m, profile_.footprint_width_m, profile_.height_m) {
+      body_(world_, profile_.footprint_length_m, profile_.footprint_width_m, profile_.height_m),
+      slip_(slip_options(profile_)),
+      ir_adc_(unseeded_ir_adc(profile_)) {
   reset(world_.start, seed);
 }
 
@@ -86,9 +146,14 @@ void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
   compass_rng_ = random_stream(seed, Stream::kCompass);
   camera_rng_ = random_stream(seed, Stream::kCamera);
   tilt_rng_ = random_stream(seed, Stream::kTilt);
+  slip_rng_ = random_stream(seed, Stream::kSlip);
+  ir_rng_ = random_stream(seed, Stream::kIr);
   // Start the PID error in its stationary distribution.
   left_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
   right_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
+  slip_.reset(slip_rng_);
+  // Each IR unit's own gain error, fixed for the run.
+  ir_adc_ = SharpIrAdc(profile_.ir_adc, profile_.ir_sensors_in_base.size(), ir_rng_);
 }
 
 void Simulator::set_command(const msgs::Twist& command) {
@@ -108,17 +173,26 @@ void Simulator::step(double dt_s) {
   const WheelAngles rotation{
       wheel_mps.left_mps / profile_.wheel_radius_m * (1.0 + left_speed_error_) * dt_s,
       wheel_mps.right_mps / profile_.wheel_radius_m * (1.0 + right_speed_error_) * dt_s};
+  // The floor: what the wheels turn is what the encoders count, what they roll moves the base.
+  WheelAngles ground = rotation;
+  if (slip_.enabled()) {
+    const double radius_m = profile_.wheel_radius_m;
+    const WheelSlip::Travel travel = slip_.step(
+        rotation.left_rad * radius_m / dt_s, rotation.right_rad * radius_m / dt_s, dt_s, slip_rng_);
+    ground = {travel.left_m / radius_m, travel.right_m / radius_m};
+  }
 
   const double half_diagonal_m =
       std::hypot(profile_.footprint_length_m, profile_.footprint_width_m) / 2.0;
-  const geometry::Pose2D full = pose_after(pose_, rotation, 1.0);
+  const geometry::Pose2D full = pose_after(pose_, ground, 1.0);
   const double travel_m =
       std::hypot(full.x - pose_.x, full.y - pose_.y) +
       std::abs(geometry::wrap_angle(full.theta - pose_.theta)) * half_diagonal_m;
   const int substeps = std::max(1, static_cast<int>(std::ceil(travel_m / kMaxSubstepTravel_m)));
   const WheelAngles slice{rotation.left_rad / substeps, rotation.right_rad / substeps};
+  const WheelAngles ground_slice{ground.left_rad / substeps, ground.right_rad / substeps};
   for (int i = 0; i < substeps; ++i) {
-    if (!drive_substep(slice)) break;
+    if (!drive_substep(slice, ground_slice)) break;
   }
   time_s_ += dt_s;
 }
@@ -134,23 +208,23 @@ void Simulator::update_wheel_noise(double dt_s) {
   right_speed_error_ = keep * right_speed_error_ + gaussian(drive_rng_, innovation_sigma);
 }
 
-geometry::Pose2D Simulator::pose_after(const geometry::Pose2D& start, const WheelAngles& rotation,
+geometry::Pose2D Simulator::pose_after(const geometry::Pose2D& start, const WheelAngles& ground,
                                        double fraction) const {
   const double left_travel_m =
-      rotation.left_rad * fraction * profile_.wheel_radius_m * profile_.left_wheel_scale;
+      ground.left_rad * fraction * profile_.wheel_radius_m * profile_.left_wheel_scale;
   const double right_travel_m =
-      rotation.right_rad * fraction * profile_.wheel_radius_m * profile_.right_wheel_scale;
+      ground.right_rad * fraction * profile_.wheel_radius_m * profile_.right_wheel_scale;
   return kinematics::integrate_wheel_travel(start, left_travel_m, right_travel_m,
                                             profile_.track_m * profile_.track_scale);
 }
 
-bool Simulator::drive_substep(const WheelAngles& rotation) {
+bool Simulator::drive_substep(const WheelAngles& rotation, const WheelAngles& ground) {
   const geometry::Pose2D start = pose_;
-  const geometry::Pose2D candidate = pose_after(start, rotation, 1.0);
+  const geometry::Pose2D candidate = pose_after(start, ground, 1.0);
   const std::optional<std::string> hit = contact(candidate);
   // A robot already overlapping something (an obstacle dropped onto it) may drive out of it.
   if (!hit || contact(start)) {
-    const bool moved = rotation.left_rad != 0.0 || rotation.right_rad != 0.0;
+    const bool moved = ground.left_rad != 0.0 || ground.right_rad != 0.0;
     if (moved && !hit) in_contact_ = false;
     pose_ = candidate;
     wheel_angles_.left_rad += rotation.left_rad;
@@ -162,15 +236,16 @@ bool Simulator::drive_substep(const WheelAngles& rotation) {
   double blocked_fraction = 1.0;
   for (int i = 0; i < kContactBisections; ++i) {
     const double middle = (free_fraction + blocked_fraction) / 2.0;
-    if (contact(pose_after(start, rotation, middle))) {
+    if (contact(pose_after(start, ground, middle))) {
       blocked_fraction = middle;
     } else {
       free_fraction = middle;
     }
   }
-  pose_ = pose_after(start, rotation, free_fraction);
+  pose_ = pose_after(start, ground, free_fraction);
   wheel_angles_.left_rad += rotation.left_rad * free_fraction;
   wheel_angles_.right_rad += rotation.right_rad * free_fraction;
+  slip_.stop();
   record_collision(*hit);
   return false;
 }
@@ -213,9 +288,15 @@ msgs::WheelEncoders Simulator::read_encoders() {
 
 std::optional<double> Simulator::nearest_in_plane(geometry::Point2D from, double angle_rad,
                                                   double max_range_m) const {
-  std::optional<double> nearest = laser_plane_.cast(from, angle_rad, max_range_m);
+  return nearest_at(*laser_plane_, profile_.laser_height_m, from, angle_rad, max_range_m);
+}
+
+std::optional<double> Simulator::nearest_at(const RayCaster& plane, double height_m,
+                                            geometry::Point2D from, double angle_rad,
+                                            double max_range_m) const {
+  std::optional<double> nearest = plane.cast(from, angle_rad, max_range_m);
   for (const Obstacle& obstacle : obstacles_) {
-    if (obstacle.height_m < profile_.laser_height_m) continue;
+    if (obstacle.height_m < height_m) continue;
     const std::optional<double> hit =
         cast_to_circle(from, angle_rad, {obstacle.x_m, obstacle.y_m}, obstacle.radius_m);
     if (hit && *hit <= max_range_m && (!nearest || *hit < *nearest)) nearest = hit;
@@ -268,20 +349,20 @@ msgs::LaserScan Simulator::read_laser() {
   scan.sensor_in_base = profile_.laser_in_base;
 
   const geometry::Pose2D laser = geometry::compose(pose_, profile_.laser_in_base);
-  const int beams =
-      static_cast<int>(std::lround(profile_.laser_fov_rad / profile_.laser_step_rad)) + 1;
+  const int beams = laser_beams(profile_);
   const double first_angle_rad = laser.theta - profile_.laser_fov_rad / 2.0;
   std::vector<double> hits_m(static_cast<std::size_t>(beams));
-  laser_plane_.cast_fan({laser.x, laser.y}, first_angle_rad, profile_.laser_step_rad,
-                        profile_.laser_range_max_m, hits_m);
+  laser_plane_->cast_fan({laser.x, laser.y}, first_angle_rad, profile_.laser_step_rad,
+                         profile_.laser_range_max_m, hits_m);
   add_obstacles_to_fan({laser.x, laser.y}, first_angle_rad, profile_.laser_step_rad, hits_m);
 
   scan.ranges_m.reserve(hits_m.size());
   for (const double hit_m : hits_m) {
-    const double range_m =
-        hit_m <= profile_.laser_range_max_m
-            ? std::max(0.0, hit_m + gaussian(laser_rng_, profile_.laser_range_sigma_m))
-            : profile_.laser_range_max_m + kNoReturnBeyondMax_m;
+    const double sigma_m =
+        std::max(profile_.laser_range_sigma_m, profile_.laser_range_sigma_fraction * hit_m);
+    const double range_m = hit_m <= profile_.laser_range_max_m
+                               ? std::max(0.0, hit_m + gaussian(laser_rng_, sigma_m))
+                               : profile_.laser_range_max_m + kNoReturnBeyondMax_m;
     scan.ranges_m.push_back(static_cast<float>(range_m));
   }
   return scan;
@@ -334,8 +415,9 @@ msgs::SonarRing Simulator::read_sonar() {
     for (int k = 0; k < kSonarRaysPerCone; ++k) {
       const double offset_rad =
           -half_cone_rad + profile_.sonar_cone_rad * k / (kSonarRaysPerCone - 1);
-      const std::optional<double> hit = nearest_in_plane(
-          {sonar.x, sonar.y}, sonar.theta + offset_rad, profile_.sonar_range_max_m);
+      const std::optional<double> hit =
+          nearest_at(*sonar_plane_, profile_.sonar_height_m, {sonar.x, sonar.y},
+                     sonar.theta + offset_rad, profile_.sonar_range_max_m);
       if (hit && (!nearest || *hit < *nearest)) nearest = hit;
     }
     double range_m = profile_.sonar_range_max_m;
@@ -347,6 +429,25 @@ msgs::SonarRing Simulator::read_sonar() {
                              profile_.sonar_range_max_m, range_m});
   }
   return ring;
+}
+
+std::vector<int> Simulator::read_ir_adc() {
+  std::vector<int> counts;
+  counts.reserve(profile_.ir_sensors_in_base.size());
+  const double half_beam_rad = profile_.ir_cone_rad / 2.0;
+  for (std::size_t i = 0; i < profile_.ir_sensors_in_base.size(); ++i) {
+    const geometry::Pose2D sensor = geometry::compose(pose_, profile_.ir_sensors_in_base[i]);
+    std::optional<double> nearest;
+    for (int k = 0; k < kIrRaysPerBeam; ++k) {
+      const double offset_rad = -half_beam_rad + profile_.ir_cone_rad * k / (kIrRaysPerBeam - 1);
+      const std::optional<double> hit =
+          nearest_at(*ir_plane_, profile_.ir_height_m, {sensor.x, sensor.y},
+                     sensor.theta + offset_rad, profile_.ir_adc.far_distance_m);
+      if (hit && (!nearest || *hit < *nearest)) nearest = hit;
+    }
+    counts.push_back(ir_adc_.counts(i, nearest, ir_rng_));
+  }
+  return counts;
 }
 
 msgs::CompassReading Simulator::read_compass() {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <random>
 #include <span>
@@ -18,6 +19,8 @@
 #include "drivers/sim/body_collider.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/robot_profile.h"
+#include "drivers/sim/sharp_ir_adc.h"
+#include "drivers/sim/wheel_slip.h"
 #include "drivers/sim/world.h"
 
 namespace mobot::sim {
@@ -36,10 +39,11 @@ struct Obstacle {
   double height_m = 0.0;
 };
 
-// The simulated robot in its world: true pose, drive with systematic and random wheel errors, and
-// the sensors of the profile. Deterministic for a given seed and call sequence: no wall clock, no
-// threads. Each noise source draws from its own random stream, so reading a sensor more or less
-// often does not change how the robot drives.
+// The simulated robot in its world: true pose, drive with systematic and random wheel errors and
+// slip on the floor, and the sensors of the profile, each seeing the world at its own height.
+// Deterministic for a given seed and call sequence: no wall clock, no threads. Each noise source
+// draws from its own random stream, so reading a sensor more or less often does not change how
+// the robot drives.
 class Simulator {
  public:
   // The robot starts at world.start.
@@ -65,14 +69,20 @@ class Simulator {
   // Cumulative ticks of the true wheel rotations, stamped time_s.
   msgs::WheelEncoders read_encoders();
   // Ray cast in the laser plane against walls, boxes whose z range contains the laser height and
-  // obstacles at least that tall; gaussian range noise. No return reads range_max_m + 1.
+  // obstacles at least that tall; gaussian range noise. No return reads range_max_m + 1. A full
+  // circle has no beam twice: 360 deg at 0.5 deg is 720 beams.
   msgs::LaserScan read_laser();
   // The nodding laser at its true pitch (the caller assigns the pitch the scan reports): a 180 deg
   // fan at step_rad in the tilted plane, cast in 3D against the floor, the full-height walls, the
   // boxes and the obstacles, with the 2D laser's range noise and a reflectance per surface.
   msgs::TiltScan read_tilt_laser(double true_pitch_rad, double step_rad);
-  // Per sonar the nearest echo across its cone (several rays); range_max_m when nothing echoes.
+  // Per sonar the nearest echo across its cone (several rays) at the sonar height; range_max_m
+  // when nothing echoes.
   msgs::SonarRing read_sonar();
+  // Per IR sensor of the profile, what its microcontroller reports: the ADC count for the nearest
+  // object across the beam at the IR height (walls, boxes whose z range contains it, obstacles at
+  // least that tall), through the sensor model of profile().ir_adc (SharpIrAdc).
+  std::vector<int> read_ir_adc();
   // True heading plus gaussian noise, wrapped.
   msgs::CompassReading read_compass();
   // The omnidirectional camera at the base centre: every world landmark no further than
@@ -89,7 +99,6 @@ class Simulator {
   int add_obstacle(double x_m, double y_m, double radius_m, double height_m);
   bool remove_obstacle(int id);
   const std::vector<Obstacle>& obstacles() const { return obstacles_; }
-
   // Puts the robot at `pose` at time 0 with encoders, collisions and obstacles cleared, the
   // command zero and the random streams reseeded.
   void reset(const geometry::Pose2D& pose, std::uint64_t seed);
@@ -104,9 +113,11 @@ class Simulator {
   };
 
   void update_wheel_noise(double dt_s);
-  // Moves through one slice of the step's wheel rotation; false when it ended in a collision.
-  bool drive_substep(const WheelAngles& rotation);
-  geometry::Pose2D pose_after(const geometry::Pose2D& start, const WheelAngles& rotation,
+  // Moves through one slice of the step: the wheels turn by `rotation` (what the encoders count)
+  // and roll `ground` over the floor (the same without slip); false when it ended in a collision.
+  bool drive_substep(const WheelAngles& rotation, const WheelAngles& ground);
+  // Where rolling `fraction` of `ground` (wheel angles over the floor) takes the true base.
+  geometry::Pose2D pose_after(const geometry::Pose2D& start, const WheelAngles& ground,
                               double fraction) const;
   std::optional<std::string> contact(const geometry::Pose2D& pose) const;
   void record_collision(const std::string& with);
@@ -116,12 +127,20 @@ class Simulator {
   // Nearest hit in the laser plane: static world and obstacles at least as tall as the plane.
   std::optional<double> nearest_in_plane(geometry::Point2D from, double angle_rad,
                                          double max_range_m) const;
+  // Nearest hit in the slice `plane` of the world at `height_m`, and obstacles that tall.
+  std::optional<double> nearest_at(const RayCaster& plane, double height_m, geometry::Point2D from,
+                                   double angle_rad, double max_range_m) const;
 
   World world_;
   RobotProfile profile_;
-  RayCaster laser_plane_;
+  // The world as each sensor sees it; sensors at one height share a slice.
+  std::shared_ptr<const RayCaster> laser_plane_;
+  std::shared_ptr<const RayCaster> sonar_plane_;
+  std::shared_ptr<const RayCaster> ir_plane_;  // null without an IR ring
   RayCaster walls_;  // the floor plan alone: walls are full height for the nodding laser
   BodyCollider body_;
+  WheelSlip slip_;
+  SharpIrAdc ir_adc_;
 
   geometry::Pose2D pose_;
   double time_s_ = 0.0;
@@ -141,6 +160,8 @@ class Simulator {
   std::mt19937_64 compass_rng_;
   std::mt19937_64 camera_rng_;
   std::mt19937_64 tilt_rng_;
+  std::mt19937_64 slip_rng_;
+  std::mt19937_64 ir_rng_;
 };
 
 }  // namespace mobot::sim

@@ -125,6 +125,13 @@ def office(out_dir):
         ("table_2", (3.0, 2.5, 0.70), (4.6, 3.3, 0.75), True),
         # A cabinet standing on the floor: the laser sees it.
         ("cabinet_1", (0.4, 14.2, 0.0), (1.6, 14.7, 1.8)),
+        # docs/algorithms.md R2: a table that only an IR ring sees, in the west of the south-west
+        # room. Its top (0.6-0.75 m) is above the Dashgo's lidar (0.2 m) and sonars (0.1 m) and
+        # under its IR ring (0.7 m); its legs are not modelled (thin enough that a 0.5 deg beam
+        # misses them), and it is not on the surveyed map, so nothing but the IR ring knows it.
+        # Both robots' bodies hit it. Off every route between the rooms: the R1 goal tours never
+        # pass there.
+        ("table_ir", (0.6, 3.4, 0.60), (1.8, 4.2, 0.75)),
     ]
     landmarks = [
         ("lm_corridor_west", 0.5, 8.2),
@@ -134,7 +141,9 @@ def office(out_dir):
         ("lm_room_se1", 19.5, 0.5),
     ]
     write_yaml(out_dir / "world.yaml", "office",
-               "20 x 15 m office: two corridors, six rooms with 1.2 m doors, two tables, a cabinet",
+               "20 x 15 m office: two corridors, six rooms with 1.2 m doors, two tables, a cabinet; "
+               "table_ir (x 0.6-1.8, y 3.4-4.2, top 0.60-0.75 m, not on the map) in the south-west "
+               "room is seen only by an IR ring at 0.7 m",
                plan, (2.0, 7.5, 0.0), boxes, landmarks)
 
 
