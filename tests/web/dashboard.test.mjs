@@ -642,35 +642,33 @@ async function main() {
         await page.selectOption('[data-testid=sweep-period]', '10');
         await page.selectOption('[data-testid=sweep-step]', '1');
         const before = (await page.evaluate(() => window.__mobot.sweep.id)) ?? 0;
-        // Every animation frame until the bar reads 1: how far the fill's box is from the value the bar
-        // shows (a width transition restarted by each refresh let it lag by a quarter of the track).
-        const lagged = page.evaluate(() => new Promise((resolve) => {
-          const track = document.querySelector('[data-testid=sweep-progress]');
-          const started = performance.now();
-          let worst = { lag: 0, label: '' };
-          let running = false;
-          const tick = () => {
-            const progress = Number(track.dataset.progress);
-            if (progress < 1) running = true;
-            const fill = track.querySelector('.fill').getBoundingClientRect().width / track.clientWidth;
-            if (Math.abs(progress - fill) > worst.lag) worst = { lag: Math.abs(progress - fill), label: track.textContent.trim(), fill };
-            if ((running && progress >= 1) || performance.now() - started > 40_000) resolve(worst);
-            else requestAnimationFrame(tick);
-          };
-          tick();
-        }));
         await page.click('[data-testid=sweep-start]');
         await page.waitForFunction((id) => (window.__mobot.sweep.id ?? 0) > id, before, { timeout: 3000 });
         const id = await page.evaluate(() => window.__mobot.sweep.id);
         const started = await rest(base, token, 'GET', `/api/v1/sweeps/${id}`);
         if (started.mode.period_s !== 10 || started.mode.step_deg !== 1) throw new Error(`the sweep runs in mode ${JSON.stringify(started.mode)}`);
         // Live: part of the cloud is drawn while the sweep runs.
+        // While it runs, each poll also notes how far the fill's box is from the value the bar shows
+        // (a width transition restarted by each refresh let it lag by a quarter of the track).
+        await page.evaluate(() => {
+          window.__barLag = { lag: 0, fill: 0, label: '' };
+          window.__noteBarLag = () => {
+            const track = document.querySelector('[data-testid=sweep-progress]');
+            const fill = track.querySelector('.fill').getBoundingClientRect().width / track.clientWidth;
+            const lag = Math.abs(Number(track.dataset.progress) - fill);
+            if (lag > window.__barLag.lag) window.__barLag = { lag, fill, label: track.textContent.trim() };
+          };
+        });
         await page.waitForFunction(() => {
+          window.__noteBarLag();
           const s = window.__mobot.sweep;
           return s.status === 'running' && s.progress > 0 && s.progress < 1 && s.drawnPoints > 0;
         }, null, { timeout: 10_000, polling: 50 });
         await screenshot(page, 'cloud3d-running.png');
-        await page.waitForFunction((sid) => window.__mobot.sweep.id === sid && /^(done|failed)$/.test(window.__mobot.sweep.status ?? ''), id, { timeout: 25_000, polling: 100 });
+        await page.waitForFunction((sid) => {
+          window.__noteBarLag();
+          return window.__mobot.sweep.id === sid && /^(done|failed)$/.test(window.__mobot.sweep.status ?? '');
+        }, id, { timeout: 25_000, polling: 100 });
         const state = await page.evaluate(() => window.__mobot.sweep);
         if (state.status !== 'done') throw new Error(`sweep #${id} ended ${state.status}: ${state.error}`);
         // The bar refreshes at 10 Hz: it shows 1 a moment after the status changed.
@@ -686,7 +684,7 @@ async function main() {
         if (!/^100 %/.test(bar.label) || bar.fill < bar.inner - 0.5 || Math.abs(bar.fillLeft) > 0.5) {
           throw new Error(`at "${bar.label}" the fill is ${bar.fill.toFixed(1)} px of a ${bar.inner} px track (from ${bar.fillLeft.toFixed(1)} px)`);
         }
-        const lag = await lagged;
+        const lag = await page.evaluate(() => window.__barLag);
         if (lag.lag > 0.01) throw new Error(`the fill lagged the bar's value by ${(lag.lag * 100).toFixed(1)} % of the track (at "${lag.label}" it covered ${(lag.fill * 100).toFixed(1)} %)`);
         const seen = await page.evaluate(() => window.__mobot.sweep.progressSeen);
         const between = seen.filter((p) => p > 0 && p < 1);
