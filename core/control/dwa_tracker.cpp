@@ -1,0 +1,288 @@
+#include "core/control/dwa_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/control/stop_and_rotate.h"
+#include "core/geometry/polyline.h"
+
+namespace mobot::control {
+namespace {
+
+using planning::PlanningGrid;
+
+bool positive(double value) { return std::isfinite(value) && value > 0.0; }
+bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
+
+// Costs of map-frame points on the local costmap, with the grid's inverse transform computed once.
+// Points off the costmap (or no costmap) cost nothing: nothing is known to block them.
+class CostLookup {
+ public:
+  explicit CostLookup(const PlanningGrid* grid) : grid_(grid) {
+    if (grid_ == nullptr || grid_->empty()) {
+      grid_ = nullptr;
+      return;
+    }
+    c_ = std::cos(grid_->origin().theta);
+    s_ = std::sin(grid_->origin().theta);
+    inv_res_ = 1.0 / grid_->resolution_m();
+  }
+  bool has_grid() const { return grid_ != nullptr; }
+  std::optional<mapping::CellIndex> cell(double x, double y) const {
+    if (grid_ == nullptr) return std::nullopt;
+    const double dx = x - grid_->origin().x;
+    const double dy = y - grid_->origin().y;
+    const double gx = (c_ * dx + s_ * dy) * inv_res_;
+    const double gy = (-s_ * dx + c_ * dy) * inv_res_;
+    if (!(gx >= 0.0 && gy >= 0.0 && gx < grid_->width() && gy < grid_->height())) {
+      return std::nullopt;
+    }
+    return mapping::CellIndex{static_cast<int>(gx), static_cast<int>(gy)};
+  }
+  std::uint8_t cost(double x, double y) const {
+    const auto c = cell(x, y);
+    return c ? grid_->cost(*c) : PlanningGrid::kFree;
+  }
+
+ private:
+  const PlanningGrid* grid_ = nullptr;
+  double c_ = 1.0;
+  double s_ = 0.0;
+  double inv_res_ = 1.0;
+};
+
+// `count` values spread evenly over [lo, hi], both ends included, plus zero when the range holds
+// it (base_local_planner's VelocityIterator).
+std::vector<double> samples(double lo, double hi, int count) {
+  std::vector<double> out;
+  if (hi - lo < 1e-9 || count <= 1) {
+    out.push_back(count <= 1 ? 0.5 * (lo + hi) : hi);
+  } else {
+    for (int i = 0; i < count; ++i) out.push_back(lo + (hi - lo) * i / (count - 1));
+  }
+  if (lo <= 0.0 && hi >= 0.0 &&
+      std::none_of(out.begin(), out.end(), [](double v) { return v == 0.0; })) {
+    out.push_back(0.0);
+  }
+  return out;
+}
+
+// The pose after moving at constant (v, w) for t seconds from `start` (exact arc).
+geometry::Pose2D advance(const geometry::Pose2D& start, double v, double w, double t) {
+  if (std::abs(w) < 1e-9) {
+    return {start.x + v * t * std::cos(start.theta), start.y + v * t * std::sin(start.theta),
+            start.theta};
+  }
+  const double theta = start.theta + w * t;
+  return {start.x + v / w * (std::sin(theta) - std::sin(start.theta)),
+          start.y - v / w * (std::cos(theta) - std::cos(start.theta)), theta};
+}
+
+}  // namespace
+
+// What a trajectory is scored against this tick.
+struct DwaTracker::Scoring {
+  // The local path without the stretches over lethal cells (ROS drops path cells inside obstacles
+  // from its path map), so going round an obstacle on the path is not scored as leaving the path
+  // there. Inscribed cells stay: a path along the edge of an inscribed zone is still the path.
+  std::vector<std::vector<geometry::Point2D>> free_path;
+  geometry::Point2D local_goal;
+  geometry::Point2D goal_front;  // the local goal pushed forward_point_distance_m along the path
+  double alignment_scale = 0.0;  // path_distance_bias, or 0 near the goal
+  double path_distance(geometry::Point2D p) const {
+    double best = free_path.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+    for (const auto& piece : free_path) {
+      best = std::min(best, piece.size() == 1 ? planning::distance(piece.front(), p)
+                                              : geometry::distance_to_polyline(piece, p));
+    }
+    return best;
+  }
+  double score(const DwaOptions& o, const geometry::Pose2D& end, std::uint8_t max_cost) const {
+    const geometry::Point2D end_point{end.x, end.y};
+    const geometry::Point2D nose{end.x + o.forward_point_distance_m * std::cos(end.theta),
+                                 end.y + o.forward_point_distance_m * std::sin(end.theta)};
+    const double to_goal = planning::distance(end_point, local_goal);
+    const double nose_to_front = planning::distance(nose, goal_front);
+    return o.path_distance_bias * path_distance(end_point) + o.goal_distance_bias * to_goal +
+           alignment_scale * path_distance(nose) + o.goal_distance_bias * nose_to_front +
+           o.occdist_scale * max_cost;
+  }
+};
+
+DwaTracker::DwaTracker(const DwaOptions& options) : options_(options) {
+  const DwaOptions& o = options;
+  if (!valid(o.limits) || !positive(o.sim_time_s) || !positive(o.sim_granularity_m) ||
+      !positive(o.angular_sim_granularity_rad) || o.linear_samples < 1 || o.linear_samples > 100 ||
+      o.angular_samples < 1 || o.angular_samples > 100 || !non_negative(o.path_distance_bias) ||
+      !non_negative(o.goal_distance_bias) || !non_negative(o.occdist_scale) ||
+      !non_negative(o.forward_point_distance_m) || !positive(o.local_goal_distance_m) ||
+      !positive(o.projection_window_m) || !non_negative(o.min_improvement) ||
+      !non_negative(o.goal_tolerance_m) || !non_negative(o.goal_tolerance_rad)) {
+    throw std::invalid_argument("DWA tracker options out of range");
+  }
+}
+
+bool DwaTracker::set_path(const planning::Path& path, std::optional<double> goal_heading_rad) {
+  if (path.empty() || !path.all_finite()) return false;
+  if (goal_heading_rad && !std::isfinite(*goal_heading_rad)) return false;
+  path_ = path;
+  const double heading = goal_heading_rad.value_or(path.heading_at(path.length_m()));
+  goal_ = {path.back().x, path.back().y, geometry::wrap_angle(heading)};
+  status_ = {};
+  status_.state = TrackerState::kTracking;
+  status_.remaining_m = path.length_m();
+  blocked_ = false;
+  chosen_.clear();
+  return true;
+}
+
+void DwaTracker::clear() {
+  path_ = {};
+  status_ = {};
+  blocked_ = false;
+  chosen_.clear();
+}
+
+msgs::Twist DwaTracker::compute(const geometry::Pose2D& pose, const msgs::Twist& velocity,
+                                double /*now_s*/) {
+  scored_ = 0;
+  admissible_ = 0;
+  chosen_.clear();
+  if (status_.state == TrackerState::kIdle || status_.state == TrackerState::kArrived) return {};
+  if (!geometry::is_finite(pose)) return {};
+
+  status_.progress_m =
+      path_.project({pose.x, pose.y}, status_.progress_m, options_.projection_window_m);
+  status_.remaining_m = path_.length_m() - status_.progress_m;
+  status_.distance_to_goal_m = std::hypot(goal_.x - pose.x, goal_.y - pose.y);
+  status_.heading_error_rad = geometry::wrap_angle(pose.theta - goal_.theta);
+
+  if (status_.state == TrackerState::kTracking &&
+      status_.distance_to_goal_m <= options_.goal_tolerance_m) {
+    status_.state = TrackerState::kFinalApproach;
+  }
+  if (status_.state == TrackerState::kTracking) return track(pose, velocity);
+
+  blocked_ = false;
+  const StopAndRotate out = stop_and_rotate(options_.limits, velocity, status_.heading_error_rad,
+                                            options_.goal_tolerance_rad);
+  if (out.arrived) {
+    status_.state = TrackerState::kArrived;
+    return {};
+  }
+  return out.command;
+}
+
+msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& velocity) {
+  const DwaOptions& o = options_;
+  const CostLookup costs(costmap_.get());
+
+  // The local goal: where the path leaves the costmap, or local_goal_distance_m along it.
+  const double from_s = status_.progress_m;
+  double goal_s = std::min(from_s + o.local_goal_distance_m, path_.length_m());
+  if (costs.has_grid()) {
+    const double step = costmap_->resolution_m();
+    goal_s = from_s;
+    for (double s = from_s; s <= path_.length_m(); s += step) {
+      const geometry::Point2D p = path_.point_at(s);
+      if (!costs.cell(p.x, p.y)) break;
+      goal_s = s;
+    }
+    const geometry::Point2D end = path_.back();
+    if (costs.cell(end.x, end.y) && goal_s + step > path_.length_m()) goal_s = path_.length_m();
+  }
+  Scoring scoring;
+  // The path from the projection to the local goal, sampled at the costmap's resolution, split
+  // where it crosses lethal cells.
+  const double sample_m = costs.has_grid() ? costmap_->resolution_m() : o.local_goal_distance_m;
+  std::vector<geometry::Point2D> piece;
+  for (double s = from_s;; s = std::min(s + sample_m, goal_s)) {
+    const geometry::Point2D p = path_.point_at(s);
+    if (costs.cost(p.x, p.y) < PlanningGrid::kLethal) {
+      piece.push_back(p);
+    } else if (!piece.empty()) {
+      scoring.free_path.push_back(std::move(piece));
+      piece.clear();
+    }
+    if (s >= goal_s) break;
+  }
+  if (!piece.empty()) scoring.free_path.push_back(std::move(piece));
+  if (!costs.has_grid()) {
+    // No costmap: the exact polyline.
+    std::vector<geometry::Point2D> exact{path_.point_at(from_s)};
+    for (std::size_t i = 0; i < path_.size(); ++i) {
+      if (path_.s_at_vertex(i) > from_s && path_.s_at_vertex(i) < goal_s) {
+        exact.push_back(path_.points()[i]);
+      }
+    }
+    exact.push_back(path_.point_at(goal_s));
+    scoring.free_path = {exact};
+  }
+  // The local goal must be a free cell: walk back along the path to the last free point.
+  double local_goal_s = goal_s;
+  while (local_goal_s > from_s) {
+    const geometry::Point2D p = path_.point_at(local_goal_s);
+    if (PlanningGrid::is_traversable_cost(costs.cost(p.x, p.y))) break;
+    local_goal_s = std::max(from_s, local_goal_s - sample_m);
+  }
+  scoring.local_goal = path_.point_at(local_goal_s);
+  const double goal_heading = path_.heading_at(local_goal_s);
+  scoring.goal_front = {scoring.local_goal.x + o.forward_point_distance_m * std::cos(goal_heading),
+                        scoring.local_goal.y + o.forward_point_distance_m * std::sin(goal_heading)};
+  scoring.alignment_scale =
+      status_.distance_to_goal_m > o.forward_point_distance_m ? o.path_distance_bias : 0.0;
+
+  // Standing still is the score to beat; from an inscribed or lethal cell nothing is admissible.
+  const std::uint8_t here = costs.cost(pose.x, pose.y);
+  const double stay_score = scoring.score(o, pose, here);
+  const DynamicWindow window = reachable_window(o.limits, velocity);
+  double best_score = std::numeric_limits<double>::infinity();
+  msgs::Twist best;
+  bool found = false;
+  if (PlanningGrid::is_traversable_cost(here)) {
+    for (const double v : samples(window.min_linear_mps, window.max_linear_mps, o.linear_samples)) {
+      for (const double w :
+           samples(window.min_angular_radps, window.max_angular_radps, o.angular_samples)) {
+        const int steps = static_cast<int>(
+            std::ceil(std::max(std::abs(v) * o.sim_time_s / o.sim_granularity_m,
+                               std::abs(w) * o.sim_time_s / o.angular_sim_granularity_rad)));
+        if (steps == 0) continue;  // standing still: stay_score
+        ++scored_;
+        const double dt = o.sim_time_s / steps;
+        std::uint8_t max_cost = here;
+        bool admissible = true;
+        trajectory_.clear();
+        trajectory_.push_back(pose);
+        geometry::Pose2D end = pose;
+        for (int i = 1; i <= steps && admissible; ++i) {
+          end = advance(pose, v, w, i * dt);
+          const std::uint8_t cost = costs.cost(end.x, end.y);
+          admissible = PlanningGrid::is_traversable_cost(cost);
+          max_cost = std::max(max_cost, cost);
+          trajectory_.push_back(end);
+        }
+        if (!admissible) continue;
+        ++admissible_;
+        const double score = scoring.score(o, end, max_cost);
+        const bool better =
+            score < best_score - 1e-9 || (score <= best_score + 1e-9 && v > best.linear_mps);
+        if (!found || better) {
+          found = true;
+          best_score = score;
+          best = {v, w};
+          chosen_ = trajectory_;
+        }
+      }
+    }
+  }
+  blocked_ = !found || best_score > stay_score - o.min_improvement;
+  if (blocked_) {
+    chosen_.clear();
+    return {};
+  }
+  return best;
+}
+
+}  // namespace mobot::control
