@@ -80,6 +80,97 @@ std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyG
   return out;
 }
 
+std::string encode_binary_map_tiles(const FrameStamp& stamp, const mapping::MapTileUpdate& tiles) {
+  const auto cells = static_cast<std::size_t>(tiles.tile_cells) * tiles.tile_cells;
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + 32 + tiles.tiles.size() * (8 + cells + 3));
+  append_header(out, topic_spec(TopicId::kMap).binary_id, stamp);
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(tiles.tile_cells));
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(tiles.tiles.size()));
+  append<float>(out, static_cast<float>(tiles.resolution_m));
+  append<float>(out, static_cast<float>(tiles.lattice_origin.x));
+  append<float>(out, static_cast<float>(tiles.lattice_origin.y));
+  append<float>(out, static_cast<float>(tiles.lattice_origin.theta));
+  append<std::uint32_t>(out, 0);  // the map being built has no id yet
+  append<std::uint32_t>(out, kMapFlagTiles);
+  for (const auto& tile : tiles.tiles) {
+    append<std::int32_t>(out, tile.x);
+    append<std::int32_t>(out, tile.y);
+    out.append(reinterpret_cast<const char*>(tile.cells.data()), tile.cells.size());
+    // Every offset stays a multiple of 4 (an odd tile size would break Float32Array views).
+    out.append((4 - tile.cells.size() % 4) % 4, '\0');
+  }
+  return out;
+}
+
+nlohmann::json map_tiles_json(const mapping::MapTileUpdate& tiles) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& tile : tiles.tiles) {
+    std::vector<int> data;
+    data.reserve(tile.cells.size());
+    for (const std::uint8_t cell : tile.cells) {
+      data.push_back(cell == mapping::OccupancyGrid::kUnknown ? -1 : cell);
+    }
+    list.push_back({{"x", tile.x}, {"y", tile.y}, {"data", std::move(data)}});
+  }
+  return {{"tiles", std::move(list)},
+          {"id", 0},
+          {"tile_cells", tiles.tile_cells},
+          {"resolution", tiles.resolution_m},
+          {"origin", pose_json(tiles.lattice_origin)}};
+}
+
+std::string encode_binary_costmap(const FrameStamp& stamp, const planning::PlanningGrid& costmap,
+                                  bool local) {
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + 32 + costmap.costs().size() + 3);
+  append_header(out, topic_spec(TopicId::kCostmap).binary_id, stamp);
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(costmap.width()));
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(costmap.height()));
+  append<float>(out, static_cast<float>(costmap.resolution_m()));
+  append<float>(out, static_cast<float>(costmap.origin().x));
+  append<float>(out, static_cast<float>(costmap.origin().y));
+  append<float>(out, static_cast<float>(costmap.origin().theta));
+  append<std::uint32_t>(out, local ? 1U : 0U);
+  append<std::uint32_t>(out, 0);
+  out.append(reinterpret_cast<const char*>(costmap.costs().data()), costmap.costs().size());
+  return out;
+}
+
+nlohmann::json costmap_json(const planning::PlanningGrid& costmap, bool local) {
+  return {{"which", local ? "local" : "global"},
+          {"width", costmap.width()},
+          {"height", costmap.height()},
+          {"resolution", costmap.resolution_m()},
+          {"origin", pose_json(costmap.origin())},
+          {"data", costmap.costs()}};
+}
+
+std::string encode_binary_particles(const FrameStamp& stamp,
+                                    std::span<const estimation::WeightedPose> particles,
+                                    std::size_t total) {
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + 32 + particles.size() * 16);
+  append_header(out, topic_spec(TopicId::kParticles).binary_id, stamp);
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(particles.size()));
+  append<std::uint32_t>(out, static_cast<std::uint32_t>(total));
+  for (int i = 0; i < 6; ++i) append<std::uint32_t>(out, 0);
+  for (const auto& particle : particles) {
+    append<float>(out, static_cast<float>(particle.pose.x));
+    append<float>(out, static_cast<float>(particle.pose.y));
+    append<float>(out, static_cast<float>(particle.pose.theta));
+    append<float>(out, static_cast<float>(particle.weight));
+  }
+  return out;
+}
+
+nlohmann::json particles_json(std::span<const estimation::WeightedPose> particles,
+                              std::size_t total) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& p : particles) list.push_back({p.pose.x, p.pose.y, p.pose.theta, p.weight});
+  return {{"count", particles.size()}, {"total", total}, {"particles", std::move(list)}};
+}
+
 std::string encode_binary_cloud(const FrameStamp& stamp, const CloudChunk& chunk,
                                 std::span<const perception::CloudPoint> points) {
   static_assert(sizeof(perception::CloudPoint) == 16, "x, y, z, intensity as four float32");
@@ -118,9 +209,10 @@ nlohmann::json scan_json(const msgs::LaserScan& scan, const geometry::Pose2D& se
           {"ranges", scan.ranges_m},         {"sensor_pose", pose_json(sensor_in_map)}};
 }
 
-nlohmann::json sonar_json(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map) {
+nlohmann::json range_ring_json(std::span<const msgs::RangeReading> ring,
+                               const geometry::Pose2D& base_in_map) {
   nlohmann::json readings = nlohmann::json::array();
-  for (const auto& reading : ring.readings) {
+  for (const auto& reading : ring) {
     const geometry::Pose2D sensor = geometry::compose(base_in_map, reading.sensor_in_base);
     readings.push_back({{"x", sensor.x},
                         {"y", sensor.y},
@@ -157,7 +249,10 @@ nlohmann::json snapshot_json(const RobotSnapshot& snapshot) {
       {"mode", snapshot.mode},
       {"pose", pose_json(snapshot.pose)},
       {"velocity", {{"v", snapshot.velocity.linear_mps}, {"w", snapshot.velocity.angular_radps}}},
-      {"localization", {{"method", snapshot.localization_method}, {"cov", snapshot.covariance}}},
+      {"localization",
+       {{"method", snapshot.localization_method},
+        {"cov", snapshot.covariance},
+        {"converged", snapshot.localization_converged}}},
       {"kinematics", snapshot.kinematics},
       {"estop", snapshot.estop},
       {"sensors", std::move(sensors)}};

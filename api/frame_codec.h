@@ -9,12 +9,15 @@
 #include <nlohmann/json.hpp>
 
 #include "api/ports/control_port.h"
+#include "core/estimation/weighted_pose.h"
 #include "core/geometry/pose2d.h"
+#include "core/mapping/map_tiles.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
 #include "core/msgs/sonar_ring.h"
 #include "core/perception/point_cloud.h"
+#include "core/planning/planning_grid.h"
 
 namespace mobot::api {
 
@@ -51,8 +54,26 @@ nlohmann::json cloud_json(const CloudChunk& chunk, std::span<const perception::C
 
 nlohmann::json pose_json(const geometry::Pose2D& pose);
 nlohmann::json scan_json(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
-nlohmann::json sonar_json(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map);
+// A ring of range sensors (sonar, IR) with each sensor's pose in the map frame.
+nlohmann::json range_ring_json(std::span<const msgs::RangeReading> ring,
+                               const geometry::Pose2D& base_in_map);
 nlohmann::json map_json(const mapping::OccupancyGrid& grid, std::int64_t map_id);
+
+// The map being built, as changed tiles (README: binary frames, map body with the tiles flag).
+std::string encode_binary_map_tiles(const FrameStamp& stamp, const mapping::MapTileUpdate& tiles);
+nlohmann::json map_tiles_json(const mapping::MapTileUpdate& tiles);
+
+// A costmap (topics costmap and local_costmap; `local` tells which).
+std::string encode_binary_costmap(const FrameStamp& stamp, const planning::PlanningGrid& costmap,
+                                  bool local);
+nlohmann::json costmap_json(const planning::PlanningGrid& costmap, bool local);
+
+// A sample of the particle filter's belief; `total` is the filter's particle count.
+std::string encode_binary_particles(const FrameStamp& stamp,
+                                    std::span<const estimation::WeightedPose> particles,
+                                    std::size_t total);
+nlohmann::json particles_json(std::span<const estimation::WeightedPose> particles,
+                              std::size_t total);
 nlohmann::json snapshot_json(const RobotSnapshot& snapshot);
 
 }  // namespace mobot::api

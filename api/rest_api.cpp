@@ -122,6 +122,7 @@ Handled RestApi::route(const Request& request, const Segments& path, const Repli
   if (resource == "tokens") return route_tokens(request, path);
   if (resource == "goals") return route_goals(request, path, reply);
   if (resource == "localization") return route_localization(request, path, reply);
+  if (resource == "mapping") return route_mapping(request, path, reply);
   if (resource == "sweeps") return route_sweeps(request, path, reply);
   if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
   if (resource == "robot") {

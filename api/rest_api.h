@@ -55,6 +55,9 @@ class RestApi {
   Handled route_goals(const Request& request, const Segments& path, const Replier& reply);
   Handled route_goal(const Request& request, std::string_view id_text, const Replier& reply);
   Handled route_localization(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_mapping(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_zones(const Request& request, const Segments& path, std::int64_t map_id,
+                      const Replier& reply);
   Handled route_sweeps(const Request& request, const Segments& path, const Replier& reply);
   Response route_sweep(const Request& request, const Segments& path);
   Response serve_static(const Request& request, std::string_view path) const;
@@ -88,6 +91,7 @@ class RestApi {
   Response sim_clock(const Request& request);
   Handled add_obstacle(const Request& request, const Replier& reply);
   Handled remove_obstacle(std::string_view id_text, const Replier& reply);
+  Handled kidnap(const Request& request, const Replier& reply);
 
   Handled start_sweep(const Request& request, const Replier& reply);
   Response sweep_cloud(const Request& request, std::int64_t id) const;

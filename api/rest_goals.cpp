@@ -128,16 +128,6 @@ Handled RestApi::route_goal(const Request& request, std::string_view id_text,
   throw ApiError(405, "method_not_allowed", "use GET or DELETE on a goal");
 }
 
-Handled RestApi::route_localization(const Request& request, const Segments& path,
-                                    const Replier& reply) {
-  if (path.size() != 4 || path[3] != "pose") throw ApiError(404, "not_found", "no such endpoint");
-  if (request.method() != http::verb::post) {
-    throw ApiError(405, "method_not_allowed", "use POST to set the pose");
-  }
-  require_role(request, Role::kOperator);
-  return set_pose(request, reply);
-}
-
 Handled RestApi::set_pose(const Request& request, const Replier& reply) {
   const nlohmann::json body = parse_json_body(request.body());
   const geometry::Pose2D pose = parse_pose(body, true);

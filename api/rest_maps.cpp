@@ -76,6 +76,10 @@ Handled RestApi::route_maps(const Request& request, const Segments& path, const 
     }
     throw ApiError(405, "method_not_allowed", "use GET or DELETE on a map");
   }
+  if (path.size() >= 5 && path[4] == "zones") {
+    if (!id) unknown_map();
+    return route_zones(request, path, *id, reply);
+  }
   if (path.size() == 5) {
     const std::string_view what = path[4];
     if (what == "activate") {

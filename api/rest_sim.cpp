@@ -29,6 +29,11 @@ Handled RestApi::route_sim(const Request& request, const Segments& path, const R
     require_role(request, Role::kOperator);
     return sim_reset(request, reply);
   }
+  if (what == "kidnap") {
+    if (method != http::verb::post) throw ApiError(405, "method_not_allowed", "use POST");
+    require_role(request, Role::kOperator);
+    return kidnap(request, reply);
+  }
   if (what == "clock") {
     if (method != http::verb::put) throw ApiError(405, "method_not_allowed", "use PUT");
     require_role(request, Role::kOperator);
@@ -83,6 +88,14 @@ Handled RestApi::sim_reset(const Request& request, const Replier& reply) {
   }
   ports_.sim->sim_reset(reset, reply.completion<Done>([](const Request& head, const Done&) {
     return json_response(head, http::status::ok, {{"ok", true}});
+  }));
+  return kReplyLater;
+}
+
+Handled RestApi::kidnap(const Request& request, const Replier& reply) {
+  const geometry::Pose2D pose = parse_pose(parse_json_body(request.body()), true);
+  ports_.sim->kidnap(pose, reply.completion<Done>([pose](const Request& head, const Done&) {
+    return json_response(head, http::status::ok, {{"pose", pose_json(pose)}});
   }));
   return kReplyLater;
 }

@@ -111,7 +111,47 @@ void StreamHub::publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2
     next_stamp(TopicId::kSonar, ring.stamp_s);
     return;
   }
-  publish_json(TopicId::kSonar, ring.stamp_s, sonar_json(ring, base_in_map));
+  publish_json(TopicId::kSonar, ring.stamp_s, range_ring_json(ring.readings, base_in_map));
+}
+
+void StreamHub::publish_ir(const msgs::IrRing& ring, const geometry::Pose2D& base_in_map) {
+  if (!wanted(TopicId::kIr)) {
+    next_stamp(TopicId::kIr, ring.stamp_s);
+    return;
+  }
+  publish_json(TopicId::kIr, ring.stamp_s, range_ring_json(ring.readings, base_in_map));
+}
+
+void StreamHub::publish_costmap(double t_s, const planning::PlanningGrid& costmap, bool local) {
+  publish_bulk(
+      local ? TopicId::kLocalCostmap : TopicId::kCostmap, t_s,
+      [&] { return costmap_json(costmap, local); },
+      [&](const FrameStamp& stamp) { return encode_binary_costmap(stamp, costmap, local); });
+}
+
+void StreamHub::publish_particles(double t_s, std::span<const estimation::WeightedPose> particles,
+                                  std::size_t total) {
+  publish_bulk(
+      TopicId::kParticles, t_s, [&] { return particles_json(particles, total); },
+      [&](const FrameStamp& stamp) { return encode_binary_particles(stamp, particles, total); });
+}
+
+void StreamHub::publish_map_tiles(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
+                                  const mapping::MapTileUpdate& tiles) {
+  // A client that subscribes from now on gets the whole map so far; the ones that have the
+  // earlier tiles get the changed ones.
+  // (The whole map is stamped with the tile frame's number: a client may get both, harmlessly.)
+  {
+    const FrameStamp stamp{t_s, seq_[topic_index(TopicId::kMap)].load() + 1, wall_clock_us()};
+    std::lock_guard lock(mutex_);
+    LatestMap map{std::move(grid), 0, stamp, map_.generation + 1, {}};
+    map.frame.wall_us = stamp.wall_us;
+    map_ = std::move(map);
+  }
+  if (tiles.tiles.empty()) return;
+  publish_bulk(
+      TopicId::kMap, t_s, [&] { return map_tiles_json(tiles); },
+      [&](const FrameStamp& stamp) { return encode_binary_map_tiles(stamp, tiles); });
 }
 
 void StreamHub::publish_map(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,

@@ -17,6 +17,7 @@
 #include "api/ports/sim_control_port.h"
 #include "api/stream_topics.h"
 #include "core/mapping/occupancy_grid.h"
+#include "core/msgs/ir_ring.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
 #include "core/msgs/sonar_ring.h"
@@ -71,6 +72,14 @@ class StreamHub {
   void publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map);
   void publish_map(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
                    std::int64_t map_id);
+  void publish_ir(const msgs::IrRing& ring, const geometry::Pose2D& base_in_map);
+  void publish_costmap(double t_s, const planning::PlanningGrid& costmap, bool local);
+  void publish_particles(double t_s, std::span<const estimation::WeightedPose> particles,
+                         std::size_t total);
+  // While mapping: the whole map so far (for clients that subscribe later) and its changed tiles
+  // (for the subscribed ones).
+  void publish_map_tiles(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
+                         const mapping::MapTileUpdate& tiles);
   void publish_status(const RobotSnapshot& snapshot);
   void publish_event(double t_s, const std::string& kind, const nlohmann::json& detail);
   void publish_truth(const SimTruth& truth);

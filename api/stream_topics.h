@@ -19,9 +19,13 @@ enum class TopicId : std::uint8_t {
   kTruth,
   kPath,
   kGoal,
-  kCloud
+  kCloud,
+  kIr,
+  kCostmap,
+  kLocalCostmap,
+  kParticles
 };
-inline constexpr std::size_t kTopicCount = 11;
+inline constexpr std::size_t kTopicCount = 15;
 
 struct TopicSpec {
   TopicId id;
@@ -45,7 +49,14 @@ inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
     {TopicId::kPath, "path", 0, false, false},
     {TopicId::kGoal, "goal", 0, false, false},
     {TopicId::kCloud, "cloud", 3, false, false},
+    {TopicId::kIr, "ir", 0, false, true},
+    {TopicId::kCostmap, "costmap", 4, false, true},
+    {TopicId::kLocalCostmap, "local_costmap", 4, false, true},
+    {TopicId::kParticles, "particles", 6, false, true},
 }};
+
+// The map body's flags (README: binary frames): bit 0, the frame holds changed tiles.
+inline constexpr std::uint32_t kMapFlagTiles = 1;
 
 inline constexpr const TopicSpec& topic_spec(TopicId id) {
   return kTopics[static_cast<std::size_t>(id)];

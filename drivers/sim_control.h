@@ -53,6 +53,9 @@ class SimControl {
   virtual void reset(const SimWorldChoice* world, std::optional<geometry::Pose2D> pose,
                      std::optional<std::uint64_t> seed) = 0;
   virtual std::uint64_t seed() const = 0;
+  // Moves the robot to `pose` behind localization's back (no encoder counts; the caller checks
+  // pose_is_free first).
+  virtual void teleport(const geometry::Pose2D& pose) = 0;
   // Returns the id; std::invalid_argument for a radius or height that is not positive and finite.
   virtual int add_obstacle(double x_m, double y_m, double radius_m, double height_m) = 0;
   virtual bool remove_obstacle(int id) = 0;

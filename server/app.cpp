@@ -68,6 +68,7 @@ App::App(Config config)
     : config_(std::move(config)),
       database_(open_database(config_)),
       maps_(database_),
+      zones_(database_),
       runs_(database_),
       tokens_(database_),
       sweep_store_(database_),
@@ -97,10 +98,17 @@ App::App(Config config)
       runtime, *recorder_,
       ControlStages{robot_->mux(), robot_->navigate(), robot_->estimate(), robot_->write_base()},
       robot_->kinematics(), robot_->plugins());
-  map_catalog_ = std::make_unique<MapCatalog>(maps_, runtime, robot_->map_listeners());
+  map_catalog_ = std::make_unique<MapCatalog>(maps_, zones_, runtime, robot_->map_listeners());
+  mapping_ = std::make_unique<MappingService>(
+      runtime, *recorder_, *map_catalog_,
+      MappingStages{robot_->mapping(), robot_->estimate(), robot_->navigate()});
+  localization_ = std::make_unique<LocalizationService>(runtime, *recorder_, robot_->estimate(),
+                                                        robot_->plugins());
   run_archive_ = std::make_unique<RunArchive>(runs_, *recorder_, runtime);
   if (drivers::SimControl* sim = robot_->backend().sim_control()) {
-    map_catalog_->ensure_named_map(sim->world_name(), sim->surveyed_map());
+    if (config_.sim.provide_map) {
+      map_catalog_->ensure_named_map(sim->world_name(), sim->surveyed_map());
+    }
     sim_ = std::make_unique<SimService>(
         *sim, runtime, *recorder_, *map_catalog_,
         ResetStages{robot_->mux(), robot_->navigate(), robot_->estimate(),
@@ -116,7 +124,8 @@ App::App(Config config)
 App::~App() { shut_down(); }
 
 api::Ports App::ports() {
-  return {*control_, *map_catalog_, *run_archive_, *token_admin_, *sweeps_, *this, sim_.get()};
+  return {*control_,     *map_catalog_, *mapping_, *localization_, *run_archive_,
+          *token_admin_, *sweeps_,      *this,     sim_.get()};
 }
 
 void App::ensure_admin_token() {

@@ -18,12 +18,15 @@
 #include "db/run_store.h"
 #include "db/sweep_store.h"
 #include "db/token_store.h"
+#include "db/zone_store.h"
 #include "server/bus.h"
 #include "server/config.h"
 #include "server/recorder.h"
 #include "server/robot_assembly.h"
 #include "server/services/control_service.h"
+#include "server/services/localization_service.h"
 #include "server/services/map_catalog.h"
+#include "server/services/mapping_service.h"
 #include "server/services/run_archive.h"
 #include "server/services/sim_service.h"
 #include "server/services/token_admin.h"
@@ -53,6 +56,7 @@ class App final : public api::SystemPort {
   Config config_;
   db::Database database_;
   db::MapStore maps_;
+  db::ZoneStore zones_;
   db::RunStore runs_;
   db::TokenStore tokens_;
   db::SweepStore sweep_store_;
@@ -64,6 +68,8 @@ class App final : public api::SystemPort {
   std::unique_ptr<RobotAssembly> robot_;
   std::unique_ptr<ControlService> control_;
   std::unique_ptr<MapCatalog> map_catalog_;
+  std::unique_ptr<MappingService> mapping_;
+  std::unique_ptr<LocalizationService> localization_;
   std::unique_ptr<RunArchive> run_archive_;
   std::unique_ptr<TokenAdmin> token_admin_;
   std::unique_ptr<SimService> sim_;

@@ -12,13 +12,17 @@
 #include "api/frame_codec.h"
 #include "api/ports/control_port.h"
 #include "api/ports/sim_control_port.h"
+#include "core/estimation/weighted_pose.h"
 #include "core/geometry/pose2d.h"
+#include "core/mapping/map_tiles.h"
 #include "core/mapping/occupancy_grid.h"
+#include "core/msgs/ir_ring.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
 #include "core/msgs/sonar_ring.h"
 #include "core/navigation/goal.h"
 #include "core/perception/point_cloud.h"
+#include "core/planning/planning_grid.h"
 
 namespace mobot::server {
 
@@ -59,10 +63,37 @@ struct SonarSample {
   geometry::Pose2D base_in_map;
 };
 
+struct IrSample {
+  msgs::IrRing ring;
+  geometry::Pose2D base_in_map;
+};
+
+// A costmap as planning (global) or the local controller (the rolling window) sees it.
+struct CostmapSample {
+  double t_s = 0.0;
+  std::shared_ptr<const planning::PlanningGrid> costmap;
+  bool local = false;
+};
+
+// A sample of the particle filter's belief.
+struct ParticlesSample {
+  double t_s = 0.0;
+  std::vector<estimation::WeightedPose> particles;
+  std::size_t total = 0;
+};
+
 struct MapSample {
   double t_s = 0.0;
   std::shared_ptr<const mapping::OccupancyGrid> grid;
   std::int64_t map_id = 0;
+};
+
+// The map being built while mapping: the whole of it (for viewers that subscribe now) and the
+// tiles that changed since the last sample (for those that have the rest).
+struct MapTilesSample {
+  double t_s = 0.0;
+  std::shared_ptr<const mapping::OccupancyGrid> grid;
+  mapping::MapTileUpdate tiles;
 };
 
 struct EventSample {
@@ -94,7 +125,11 @@ struct Bus {
   Topic<msgs::Odometry> odom;
   Topic<ScanSample> scan;
   Topic<SonarSample> sonar;
+  Topic<IrSample> ir;
+  Topic<CostmapSample> costmap;
+  Topic<ParticlesSample> particles;
   Topic<MapSample> map;
+  Topic<MapTilesSample> map_tiles;
   Topic<api::RobotSnapshot> status;
   Topic<EventSample> events;
   Topic<api::SimTruth> truth;

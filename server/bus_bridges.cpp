@@ -15,6 +15,17 @@ void connect_stream_hub(Bus& bus, api::StreamHub& hub) {
       [&hub](const ScanSample& sample) { hub.publish_scan(sample.scan, sample.sensor_in_map); });
   bus.sonar.subscribe(
       [&hub](const SonarSample& sample) { hub.publish_sonar(sample.ring, sample.base_in_map); });
+  bus.ir.subscribe(
+      [&hub](const IrSample& sample) { hub.publish_ir(sample.ring, sample.base_in_map); });
+  bus.costmap.subscribe([&hub](const CostmapSample& sample) {
+    hub.publish_costmap(sample.t_s, *sample.costmap, sample.local);
+  });
+  bus.particles.subscribe([&hub](const ParticlesSample& sample) {
+    hub.publish_particles(sample.t_s, sample.particles, sample.total);
+  });
+  bus.map_tiles.subscribe([&hub](const MapTilesSample& sample) {
+    hub.publish_map_tiles(sample.t_s, sample.grid, sample.tiles);
+  });
   bus.map.subscribe(
       [&hub](const MapSample& sample) { hub.publish_map(sample.t_s, sample.grid, sample.map_id); });
   bus.status.subscribe(

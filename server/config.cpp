@@ -108,7 +108,7 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2",
         "max_angular_accel_radps2"}},
-      {"sim", {"world", "worlds_dir", "seed", "time_scale"}},
+      {"sim", {"world", "worlds_dir", "seed", "time_scale", "provide_map"}},
       {"odometry", {"left_wheel_radius_m", "right_wheel_radius_m", "track_m"}},
       {"localization", {"method"}},
       {"navigation",
@@ -119,8 +119,9 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"stream", {"max_frames_per_topic"}},
   };
   // Plugin sections: each plugin checks its own keys (server/plugins).
-  static const std::set<std::string> kScalars{"backend",     "run_name",   "mux",       "planners",
-                                              "controllers", "estimators", "kinematics"};
+  static const std::set<std::string> kScalars{"backend",    "run_name",   "mux",
+                                              "planners",   "controllers", "estimators",
+                                              "kinematics", "slam",        "costmaps"};
   for (const auto& entry : root) {
     const auto key = entry.first.as<std::string>();
     if (kScalars.contains(key)) continue;
@@ -191,6 +192,7 @@ Config load_config(const std::filesystem::path& file) {
   if (!path.empty()) config.sim.worlds_dir = path;
   reader.read("sim", "seed", config.sim.seed);
   reader.read_number("sim", "time_scale", config.sim.time_scale, 0.1, 100.0);
+  reader.read("sim", "provide_map", config.sim.provide_map);
 
   reader.read_number("odometry", "left_wheel_radius_m", config.odometry.left_wheel_radius_m, 0.0,
                      1.0);

@@ -46,6 +46,9 @@ struct SimSection {
   std::filesystem::path worlds_dir;  // empty: the built-in worlds
   std::uint64_t seed = 1;
   double time_scale = 1.0;
+  // The world's floor plan is stored and activated as the robot's map at start. false: the robot
+  // starts without a map, as in a building nobody has mapped yet (docs/algorithms.md C7).
+  bool provide_map = true;
 };
 
 // Wheel geometry odometry integrates with. Unset (0) means the robot profile's nominal values;

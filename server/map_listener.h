@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "core/mapping/keepout_zone.h"
 #include "core/mapping/occupancy_grid.h"
 #include "server/tick_context.h"
 
@@ -13,6 +14,9 @@ struct ActiveMap {
   std::int64_t id = 0;
   std::uint64_t generation = 0;  // counts activations: results computed on an older map are stale
   std::shared_ptr<const mapping::OccupancyGrid> grid;
+  // Where planning never goes (polygons in the map frame).
+  std::shared_ptr<const std::vector<mapping::KeepoutZone>> zones =
+      std::make_shared<const std::vector<mapping::KeepoutZone>>();
 };
 
 // Something that works on the active map (a stage, a layer). A new map arrives in two steps:

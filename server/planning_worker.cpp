@@ -1,7 +1,9 @@
 #include "server/planning_worker.h"
 
 #include <boost/asio/post.hpp>
+
 #include <stdexcept>
+#include "core/geometry/simple_polygon.h"
 
 #include <spdlog/spdlog.h>
 
@@ -13,11 +15,23 @@ PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options,
 
 PlanningWorker::~PlanningWorker() { pool_.join(); }
 
-void PlanningWorker::set_map(const mapping::OccupancyGrid& map, std::uint64_t generation) {
+planning::PlanningGrid PlanningWorker::build(
+    const mapping::OccupancyGrid& map, const mapping::OccupancyGrid* layer,
+    std::span<const geometry::Point2D> points,
+    std::span<const std::vector<geometry::Point2D>> zones) const {
+  const std::span<const mapping::OccupancyGrid> layers(layer, layer ? 1 : 0);
+  return builder_.build(map, {layers, points, zones});
+}
+
+void PlanningWorker::set_map(const mapping::OccupancyGrid& map,
+                             std::vector<std::vector<geometry::Point2D>> zones,
+                             std::uint64_t generation) {
   auto copy = std::make_shared<const mapping::OccupancyGrid>(map);
-  auto grid = std::make_shared<const planning::PlanningGrid>(builder_.build(*copy));
+  auto kept = std::make_shared<const std::vector<std::vector<geometry::Point2D>>>(std::move(zones));
+  auto grid = std::make_shared<const planning::PlanningGrid>(build(*copy, nullptr, {}, *kept));
   std::lock_guard lock(mutex_);
   map_ = std::move(copy);
+  zones_ = std::move(kept);
   layer_.reset();
   static_grid_ = std::move(grid);
   generation_ = generation;
@@ -26,13 +40,14 @@ void PlanningWorker::set_map(const mapping::OccupancyGrid& map, std::uint64_t ge
 bool PlanningWorker::set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
                                         std::uint64_t map_generation) {
   std::shared_ptr<const mapping::OccupancyGrid> map;
+  std::shared_ptr<const std::vector<std::vector<geometry::Point2D>>> zones;
   {
     std::lock_guard lock(mutex_);
     if (map_generation != generation_ || !map_) return false;
     map = map_;
+    zones = zones_;
   }
-  const std::span<const mapping::OccupancyGrid> layers(layer.get(), layer ? 1 : 0);
-  auto grid = std::make_shared<const planning::PlanningGrid>(builder_.build(*map, {layers, {}}));
+  auto grid = std::make_shared<const planning::PlanningGrid>(build(*map, layer.get(), {}, *zones));
   std::lock_guard lock(mutex_);
   if (map_generation != generation_) return false;  // a new map arrived while this one inflated
   layer_ = std::move(layer);
@@ -86,17 +101,23 @@ PlanningWorker::Outcome PlanningWorker::plan_now(
   std::shared_ptr<const mapping::OccupancyGrid> map;
   std::shared_ptr<const mapping::OccupancyGrid> layer;
   std::shared_ptr<const planning::PlanningGrid> grid;
+  std::shared_ptr<const std::vector<std::vector<geometry::Point2D>>> zones;
   {
     std::lock_guard lock(mutex_);
     map = map_;
     layer = layer_;
     grid = static_grid_;
+    zones = zones_;
   }
   if (!grid) return {planning::PlanError::kNoMap, {}};
+  for (const auto& zone : *zones) {
+    if (geometry::SimplePolygon(zone).contains({goal.x, goal.y})) {
+      return {planning::PlanError::kGoalInKeepout, {}};
+    }
+  }
   if (!extra_obstacles_in_map.empty()) {
-    const std::span<const mapping::OccupancyGrid> layers(layer.get(), layer ? 1 : 0);
     grid = std::make_shared<const planning::PlanningGrid>(
-        builder_.build(*map, {layers, extra_obstacles_in_map}));
+        build(*map, layer.get(), extra_obstacles_in_map, *zones));
   }
   planning::GlobalPlanner& global_planner = planner_named(planner);
   const planning::PlanResult result = global_planner.plan(*grid, start, goal);

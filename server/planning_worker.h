@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,9 @@ class PlanningWorker {
 
   // Inflates `map` (on the caller's thread) and plans on it from now on, without a 3D layer.
   // `generation` names the activation, which set_obstacle_layer must name.
-  void set_map(const mapping::OccupancyGrid& map, std::uint64_t generation);
+  // `zones` are the map's keep-out polygons: lethal and inflated, and a goal inside one is refused.
+  void set_map(const mapping::OccupancyGrid& map, std::vector<std::vector<geometry::Point2D>> zones,
+               std::uint64_t generation);
   // Merges the 3D-obstacle layer (occupied cells block) into the static grid, rebuilt on the
   // caller's thread. Ignored (false) when the map changed since `map_generation`.
   bool set_obstacle_layer(std::shared_ptr<const mapping::OccupancyGrid> layer,
@@ -69,6 +72,11 @@ class PlanningWorker {
                    const std::vector<geometry::Point2D>& extra_obstacles_in_map);
   planning::GlobalPlanner& planner_named(const std::string& name);
 
+  planning::PlanningGrid build(const mapping::OccupancyGrid& map,
+                               const mapping::OccupancyGrid* layer,
+                               std::span<const geometry::Point2D> points,
+                               std::span<const std::vector<geometry::Point2D>> zones) const;
+
   const planning::PlanningGridBuilder builder_;
   const planning::PathSmoother smoother_;
   const PluginSet<planning::GlobalPlanner>& plugins_;
@@ -76,6 +84,7 @@ class PlanningWorker {
   mutable std::mutex mutex_;  // guards map_, layer_, generation_ and static_grid_
   std::shared_ptr<const mapping::OccupancyGrid> map_;
   std::shared_ptr<const mapping::OccupancyGrid> layer_;
+  std::shared_ptr<const std::vector<std::vector<geometry::Point2D>>> zones_;
   std::uint64_t generation_ = 0;
   std::shared_ptr<const planning::PlanningGrid> static_grid_;
 

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 
+#include "server/plugins/costmap_options.h"
+#include "server/plugins/slam_options.h"
 #include "server/stages/advance_stage.h"
+#include "server/stages/costmap_stage.h"
+#include "server/stages/mapping_stage.h"
 #include "server/stages/perceive_stage.h"
 #include "server/stages/publish_stage.h"
 #include "server/stages/read_drivers_stage.h"
@@ -56,10 +60,8 @@ navigation::GoalNavigatorOptions navigator_options(const Config& config) {
   return options;
 }
 
-planning::PlanningGridOptions grid_options(const Config& config) {
-  planning::PlanningGridOptions options;
-  options.inscribed_radius_m = config.navigation.inscribed_radius_m;
-  return options;
+CostmapOptions costmap_options(const Config& config) {
+  return read_costmap_options(config.document, config.navigation.inscribed_radius_m);
 }
 
 }  // namespace
@@ -70,7 +72,8 @@ RobotAssembly::RobotAssembly(const Config& config, Bus& bus,
     : backend_(std::move(backend)),
       plugins_(configure_plugins(builtin_plugins(), config, backend_->geometry())),
       kinematics_(plugins_.kinematics.make(config.robot.kinematics)),
-      planning_(std::make_unique<PlanningWorker>(grid_options(config), plugins_.planners)),
+      planning_(
+          std::make_unique<PlanningWorker>(costmap_options(config).global, plugins_.planners)),
       // IPaBD's cell (docs/algorithms.md P2): a third of the robot's width.
       sweep_layer_(backend_->geometry().footprint_width_m / 3.0) {
   runtime_ = std::make_unique<Runtime>(bus, build_pipeline(config, std::move(on_sweep)),
@@ -85,11 +88,15 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   Pipeline pipeline;
   pipeline.add(std::make_unique<AdvanceStage>(*backend_));
   pipeline.add(std::make_unique<ReadDriversStage>(drivers));
-  estimate_ = &pipeline.add(
-      std::make_unique<EstimateStage>(odometry_params(config.odometry, backend_->geometry()),
-                                      plugins_.estimators.make(config.localization.method), start));
+  estimate_ = &pipeline.add(std::make_unique<EstimateStage>(
+      odometry_params(config.odometry, backend_->geometry()),
+      [this](std::string_view name) { return plugins_.estimators.make(name); },
+      config.localization.method, start));
+  mapping_ = &pipeline.add(std::make_unique<MappingStage>(read_slam_options(config.document)));
   pipeline.add(std::make_unique<PerceiveStage>([this] { return planning_->static_grid(); },
                                                config.navigation.inscribed_radius_m));
+  pipeline.add(std::make_unique<CostmapStage>(costmap_options(config).local,
+                                              [this] { return planning_->static_grid(); }));
   if (drivers.tilt) {
     sweep_ = &pipeline.add(std::make_unique<SweepStage>(*drivers.tilt, std::move(on_sweep)));
   }

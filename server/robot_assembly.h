@@ -12,6 +12,7 @@
 #include "server/plugins/plugins.h"
 #include "server/runtime.h"
 #include "server/stages/estimate_stage.h"
+#include "server/stages/mapping_stage.h"
 #include "server/stages/mux_stage.h"
 #include "server/stages/navigate_stage.h"
 #include "server/stages/safety_stage.h"
@@ -39,6 +40,7 @@ class RobotAssembly {
   Runtime& runtime() { return *runtime_; }
 
   EstimateStage& estimate() { return *estimate_; }
+  MappingStage& mapping() { return *mapping_; }
   NavigateStage& navigate() { return *navigate_; }
   SweepStage& sweep() { return *sweep_; }
   MuxStage& mux() { return *mux_; }
@@ -57,6 +59,7 @@ class RobotAssembly {
   std::unique_ptr<PlanningWorker> planning_;
   SweepLayer sweep_layer_;
   EstimateStage* estimate_ = nullptr;
+  MappingStage* mapping_ = nullptr;
   NavigateStage* navigate_ = nullptr;
   SweepStage* sweep_ = nullptr;
   SafetyStage* safety_ = nullptr;

@@ -21,6 +21,7 @@
 #include "core/msgs/twist.h"
 #include "core/msgs/wheel_encoders.h"
 #include "core/navigation/goal.h"
+#include "core/planning/planning_grid.h"
 #include "server/bus.h"
 
 namespace mobot::server {
@@ -102,12 +103,19 @@ struct TickContext {
   msgs::Odometry odometry;
   double distance_m = 0.0;
   std::string localization_method;
+  bool localization_converged = false;
+
+  // mapping: a SLAM session is building a map (the estimate is the SLAM's)
+  bool mapping = false;
 
   // perceive: what the sensors see that the map does not have
   std::shared_ptr<const std::vector<geometry::Point2D>> unmapped_points =
       std::make_shared<const std::vector<geometry::Point2D>>();
   bool scan_blocks_path = false;  // this tick's scan saw something on the active path
   std::vector<msgs::RangeReading> avoidance_echoes;  // last sonar ring, echoes off the path removed
+
+  // costmap: the rolling window around the robot the trackers steer on
+  std::shared_ptr<const planning::PlanningGrid> local_costmap;
 
   // 3D sweep
   std::optional<SweepProgress> sweep;

@@ -27,6 +27,7 @@ struct RobotSnapshot {
   msgs::Twist velocity;
   std::string localization_method;
   std::array<double, 9> covariance{};
+  bool localization_converged = false;
   std::string kinematics;
   bool estop = false;
   std::map<std::string, SensorHealth> sensors;

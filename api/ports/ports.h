@@ -1,7 +1,9 @@
 #pragma once
 
 #include "api/ports/control_port.h"
+#include "api/ports/localization_port.h"
 #include "api/ports/map_catalog_port.h"
+#include "api/ports/mapping_port.h"
 #include "api/ports/run_archive_port.h"
 #include "api/ports/sim_control_port.h"
 #include "api/ports/sweeps_port.h"
@@ -15,6 +17,8 @@ namespace mobot::api {
 struct Ports {
   ControlPort& control;
   MapCatalogPort& maps;
+  MappingPort& mapping;
+  LocalizationPort& localization;
   RunArchivePort& runs;
   TokenAdminPort& tokens;
   SweepsPort& sweeps;

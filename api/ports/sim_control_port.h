@@ -48,6 +48,8 @@ class SimControlPort {
   virtual void add_sim_obstacle(const SimObstacleRequest& request, Completion<int> done) = 0;
   // kNotFound unknown_obstacle.
   virtual void remove_sim_obstacle(int id, Completion<Done> done) = 0;
+  // Moves the simulated robot without telling localization. kInvalid pose_in_obstacle.
+  virtual void kidnap(const geometry::Pose2D& pose, Completion<Done> done) = 0;
 };
 
 }  // namespace mobot::api

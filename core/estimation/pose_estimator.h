@@ -1,11 +1,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/estimation/weighted_pose.h"
 #include "core/estimation/wheel_odometry.h"
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
@@ -38,6 +40,11 @@ struct EstimatorCounters {
   std::uint64_t rejected_updates = 0;  // updates refused (gate, NaN)
 };
 
+// The default convergence rule, for estimators whose covariance is their whole belief (EKF):
+// position standard deviation (largest axis of the x-y block) below 0.15 m and heading standard
+// deviation below 0.1 rad. A non-finite covariance has not converged.
+bool covariance_converged(const Eigen::Matrix3d& covariance);
+
 // The robot's pose in the map frame, from odometry and whatever else the implementation fuses
 // (EKF, particle filter, SLAM), chosen by name through the estimator registry. Called on the
 // control loop once per tick: it must be cheap and never block.
@@ -55,6 +62,14 @@ class PoseEstimator {
   virtual geometry::Pose2D pose() const = 0;
   virtual Eigen::Matrix3d covariance() const = 0;
   virtual EstimatorCounters counters() const = 0;
+
+  // Spreads the belief over the free space of the map (global localization). False: this
+  // estimator cannot (the caller answers 409), or it has no map with free space.
+  virtual bool start_global_localization() { return false; }
+  // Whether the estimate has settled (particle cloud tight; EKF: covariance small).
+  virtual bool converged() const { return covariance_converged(covariance()); }
+  // A sample of the belief for display (at most max_count), empty for single-hypothesis filters.
+  virtual std::vector<WeightedPose> particles(std::size_t /*max_count*/) const { return {}; }
 };
 
 }  // namespace mobot::estimation

@@ -62,6 +62,10 @@ class GoalNavigator {
 
   TickResult tick(double now_s, const geometry::Pose2D& pose, const msgs::Twist& velocity,
                   std::span<const msgs::RangeReading> sonar);
+  // Hands the active goal's tracker this tick's local costmap (before tick()).
+  void set_local_costmap(std::shared_ptr<const planning::PlanningGrid> costmap) {
+    if (tracker_) tracker_->set_local_costmap(std::move(costmap));
+  }
 
   std::optional<std::int64_t> active_id() const;
   std::optional<Goal> find(std::int64_t id) const;

@@ -1,6 +1,7 @@
 #include "core/perception/unmapped_obstacles.h"
 
 #include <cmath>
+#include <vector>
 
 #include "core/geometry/polyline.h"
 
@@ -24,15 +25,38 @@ bool UnmappedObstacles::explained_by_map(const geometry::Point2D& point_in_map) 
 
 void UnmappedObstacles::observe_scan(const msgs::LaserScan& scan,
                                      const geometry::Pose2D& sensor_in_map) {
-  points_.clear();
+  scan_points_.clear();
   for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
     const float range_m = scan.ranges_m[i];
     if (!(range_m >= scan.range_min_m && range_m <= scan.range_max_m)) continue;
     const double angle_rad = scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
     const geometry::Point2D point = geometry::transform_point(
         sensor_in_map, {range_m * std::cos(angle_rad), range_m * std::sin(angle_rad)});
-    if (!explained_by_map(point)) points_.push_back(point);
+    if (!explained_by_map(point)) scan_points_.push_back(point);
   }
+  merge_points();
+}
+
+void UnmappedObstacles::observe_ranges(std::span<const msgs::RangeReading> ring,
+                                       const geometry::Pose2D& base_in_map, double now_s) {
+  std::erase_if(range_echoes_, [&](const HeldEcho& echo) {
+    return !(now_s - echo.seen_s <= options_.range_echo_hold_s);
+  });
+  for (const auto& reading : ring) {
+    // range_max (or beyond): nothing echoed; NaN: not a reading.
+    if (!(reading.range_m >= reading.range_min_m && reading.range_m < reading.range_max_m)) {
+      continue;
+    }
+    const geometry::Pose2D sensor = geometry::compose(base_in_map, reading.sensor_in_base);
+    const geometry::Point2D point = geometry::transform_point(sensor, {reading.range_m, 0.0});
+    if (!explained_by_map(point)) range_echoes_.push_back({point, now_s});
+  }
+  merge_points();
+}
+
+void UnmappedObstacles::merge_points() {
+  points_ = scan_points_;
+  for (const auto& echo : range_echoes_) points_.push_back(echo.point);
 }
 
 bool UnmappedObstacles::blocks(const std::vector<geometry::Point2D>& path, double within_m) const {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/geometry/pose2d.h"
@@ -15,6 +16,10 @@ struct UnmappedObstaclesOptions {
   int map_match_cells = 2;
   // Arc samples across a sonar cone: the echo may come from anywhere in it, not only its axis.
   int cone_samples = 5;
+  // Echoes of the short-range ring (IR) stay obstacles this long after they were seen: a table
+  // top only the IR ring sees drops out of its narrow cones as soon as the robot turns away, and
+  // the replan must still go round it (docs/algorithms.md C6).
+  double range_echo_hold_s = 10.0;
 };
 
 // What the range sensors see that the map does not explain (dropped obstacles, people): the
@@ -30,6 +35,11 @@ class UnmappedObstacles {
 
   // Keeps the scan's returns the map does not explain, in the map frame (replacing the last).
   void observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
+  // Keeps the echoes of a ring of short-range sensors (IR) the map does not explain, each until
+  // range_echo_hold_s after it was seen.
+  void observe_ranges(std::span<const msgs::RangeReading> ring, const geometry::Pose2D& base_in_map,
+                      double now_s);
+  // The laser's unexplained returns and the held range echoes, map frame.
   const std::vector<geometry::Point2D>& points() const { return points_; }
   // Whether a kept return lies within `within_m` of the polyline `path`.
   bool blocks(const std::vector<geometry::Point2D>& path, double within_m) const;
@@ -48,6 +58,14 @@ class UnmappedObstacles {
 
   UnmappedObstaclesOptions options_;
   std::shared_ptr<const planning::PlanningGrid> map_;
+  void merge_points();
+
+  std::vector<geometry::Point2D> scan_points_;
+  struct HeldEcho {
+    geometry::Point2D point;
+    double seen_s = 0.0;
+  };
+  std::vector<HeldEcho> range_echoes_;
   std::vector<geometry::Point2D> points_;
 };
 

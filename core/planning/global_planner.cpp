@@ -18,6 +18,8 @@ std::string_view error_code(PlanError error) {
       return "goal_in_obstacle";
     case PlanError::kNoPath:
       return "no_path";
+    case PlanError::kGoalInKeepout:
+      return "goal_in_keepout";
   }
   return "no_path";
 }

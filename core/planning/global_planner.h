@@ -21,6 +21,7 @@ enum class PlanError {
   kStartInObstacle,  // "start_in_obstacle": inside an obstacle with no free cell within reach
   kGoalInObstacle,   // "goal_in_obstacle": the goal cell is lethal, inscribed or unknown
   kNoPath,           // "no_path"
+  kGoalInKeepout,    // "goal_in_keepout": the goal lies inside a keep-out zone
 };
 
 std::string_view error_code(PlanError error);

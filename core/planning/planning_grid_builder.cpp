@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/costmap/cell_bounds.h"
+#include "core/costmap/keepout_layer.h"
 #include "core/costmap/obstacle_grid_layer.h"
 #include "core/costmap/static_layer.h"
 
@@ -54,6 +55,16 @@ PlanningGrid PlanningGridBuilder::build(const mapping::OccupancyGrid& occupancy,
   }
   for (const geometry::Point2D& point : extra.points_in_map) {
     if (const auto cell = grid.cell_at(point)) grid.set_cost(*cell, PlanningGrid::kLethal);
+  }
+  if (!extra.keepout_zones.empty()) {
+    costmap::KeepoutLayer keepout;
+    const std::vector<std::vector<geometry::Point2D>> zones(extra.keepout_zones.begin(),
+                                                            extra.keepout_zones.end());
+    if (const auto refused = keepout.set_zones(zones)) throw std::invalid_argument(*refused);
+    keepout.match_geometry(grid);
+    costmap::CellBounds bounds = all;
+    keepout.update_bounds(grid, bounds);
+    keepout.update(grid, all);
   }
 
   // A layer per build: its scratch buffers make inflate() non-const, and build() may run on

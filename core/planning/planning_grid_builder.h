@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "core/costmap/inflation_layer.h"
 #include "core/geometry/pose2d.h"
@@ -33,6 +34,9 @@ struct PlanningGridOptions {
 struct ExtraObstacles {
   std::span<const mapping::OccupancyGrid> grids;
   std::span<const geometry::Point2D> points_in_map;
+  // Keep-out zones (simple polygons, map frame): lethal, and inflated like walls, so the robot's
+  // body stays out of them, not only its centre.
+  std::span<const std::vector<geometry::Point2D>> keepout_zones;
 };
 
 // Builds the costmap-like grid A* searches from an occupancy grid: a global costmap of the map's

@@ -23,6 +23,7 @@ class SimBackend final : public drivers::Backend, public drivers::SimControl {
   drivers::SimControl* sim_control() override { return this; }
 
   geometry::Pose2D true_pose() const override { return simulator_->true_pose(); }
+  void teleport(const geometry::Pose2D& pose) override { simulator_->teleport(pose); }
   int collision_count() const override { return simulator_->collision_count(); }
   std::string world_name() const override { return simulator_->world().name; }
   mapping::OccupancyGrid surveyed_map() const override;

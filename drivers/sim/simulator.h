@@ -99,6 +99,9 @@ class Simulator {
   int add_obstacle(double x_m, double y_m, double radius_m, double height_m);
   bool remove_obstacle(int id);
   const std::vector<Obstacle>& obstacles() const { return obstacles_; }
+  // Lifts the robot and sets it down at `pose` (a kidnap): the wheels do not turn, so the
+  // encoders do not see it; everything else goes on.
+  void teleport(const geometry::Pose2D& pose) { pose_ = pose; }
   // Puts the robot at `pose` at time 0 with encoders, collisions and obstacles cleared, the
   // command zero and the random streams reseeded.
   void reset(const geometry::Pose2D& pose, std::uint64_t seed);

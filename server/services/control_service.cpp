@@ -1,11 +1,9 @@
 #include "server/services/control_service.h"
 
+#include "server/services/refusals.h"
+
 namespace mobot::server {
 namespace {
-
-api::DomainError estop_engaged() {
-  return {api::ErrorKind::kConflict, "estop_engaged", "e-stop is engaged: release it first"};
-}
 
 std::string plan_error_message(planning::PlanError error) {
   switch (error) {
@@ -15,6 +13,8 @@ std::string plan_error_message(planning::PlanError error) {
       return "the robot does not fit at the goal: it is in or too close to an obstacle";
     case planning::PlanError::kNoPath:
       return "no collision-free path leads from the robot to the goal";
+    case planning::PlanError::kGoalInKeepout:
+      return "the goal lies inside a keep-out zone";
     case planning::PlanError::kStartInObstacle:
       return "the robot is inside an obstacle and cannot get out";
     case planning::PlanError::kStartOutsideMap:
@@ -73,7 +73,7 @@ void ControlService::set_estop(bool engaged, api::Completion<bool> done) {
     }
     // The robot is stopped now; the reply waits until the e-stop event is on disk, so an
     // acknowledged e-stop is in the run even if the server is killed right after.
-    after_commit(context, std::move(done), stages_.mux.set_estop(engaged, context));
+    after_commit(recorder_, context, std::move(done), stages_.mux.set_estop(engaged, context));
   });
 }
 
@@ -89,6 +89,7 @@ void ControlService::submit_goal(const api::GoalRequest& request,
   }
   runtime_.post([this, request, done = std::move(done)](TickContext& context) mutable {
     if (stages_.mux.estop()) return done(estop_engaged());
+    if (context.mapping) return done(mapping_active());
     // Planning takes milliseconds to tens of them: on the worker, never on the control loop.
     stages_.navigate.plan(
         request, context,
@@ -103,15 +104,16 @@ void ControlService::start_planned(const api::GoalRequest& request, PlanningWork
   if (outcome.error) return done(plan_error(*outcome.error));
   runtime_.post([this, request, path = std::move(outcome.path),
                  done = std::move(done)](TickContext& context) mutable {
-    // The e-stop may have been engaged while the plan was made.
+    // The e-stop may have been engaged, or mapping started, while the plan was made.
     if (stages_.mux.estop()) return done(estop_engaged());
+    if (context.mapping) return done(mapping_active());
     auto goal = stages_.navigate.start(request, path, context);
     if (!goal) {
       return done(api::DomainError{api::ErrorKind::kImpossible, "unsupported_controller",
                                    "the controller '" + request.controller + "' is not available"});
     }
     // The goal events (a preempted goal, this one starting) are in the run before the reply.
-    after_commit(context, std::move(done), std::move(*goal));
+    after_commit(recorder_, context, std::move(done), std::move(*goal));
   });
 }
 
@@ -138,7 +140,7 @@ void ControlService::cancel_goal(std::int64_t id, api::Completion<navigation::Go
                                        std::string(navigation::to_string(before->status)) + ")"});
     }
     stages_.navigate.cancel(id, context);
-    after_commit(context, std::move(done), *stages_.navigate.find(id));
+    after_commit(recorder_, context, std::move(done), *stages_.navigate.find(id));
   });
 }
 
@@ -146,9 +148,10 @@ void ControlService::set_localization_pose(const geometry::Pose2D& pose,
                                            const std::array<double, 9>& covariance,
                                            api::Completion<api::Done> done) {
   runtime_.post([this, pose, covariance, done = std::move(done)](TickContext& context) mutable {
+    if (context.mapping) return done(mapping_active());
     stages_.estimate.set_pose(pose, to_matrix(covariance), context);
     context.event("localization", {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}});
-    after_commit(context, std::move(done), api::Done{});
+    after_commit(recorder_, context, std::move(done), api::Done{});
   });
 }
 

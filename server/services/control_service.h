@@ -5,6 +5,7 @@
 #include "server/plugins/plugins.h"
 #include "server/recorder.h"
 #include "server/runtime.h"
+#include "server/services/after_commit.h"
 #include "server/stages/estimate_stage.h"
 #include "server/stages/mux_stage.h"
 #include "server/stages/navigate_stage.h"
@@ -44,16 +45,6 @@ class ControlService final : public api::ControlPort {
  private:
   void start_planned(const api::GoalRequest& request, PlanningWorker::Outcome outcome,
                      api::Completion<navigation::Goal> done);
-  // Calls `done` with `value` once the command's state is published and what the recorder holds
-  // then is committed.
-  template <class T>
-  void after_commit(TickContext& context, api::Completion<T> done, T value) {
-    context.then([this, done = std::move(done), value = std::move(value)]() mutable {
-      recorder_.flush_async(
-          [done = std::move(done), value = std::move(value)]() mutable { done(std::move(value)); });
-    });
-  }
-
   Runtime& runtime_;
   Recorder& recorder_;
   ControlStages stages_;

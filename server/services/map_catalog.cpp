@@ -2,6 +2,8 @@
 
 #include "server/wall_clock.h"
 
+#include "core/geometry/simple_polygon.h"
+
 #include <boost/asio/post.hpp>
 #include <chrono>
 
@@ -19,8 +21,9 @@ api::DomainError unknown_map() {
 
 }  // namespace
 
-MapCatalog::MapCatalog(db::MapStore& maps, Runtime& runtime, std::vector<MapListener*> listeners)
-    : maps_(maps), runtime_(runtime), listeners_(std::move(listeners)) {}
+MapCatalog::MapCatalog(db::MapStore& maps, db::ZoneStore& zones, Runtime& runtime,
+                       std::vector<MapListener*> listeners)
+    : maps_(maps), zones_(zones), runtime_(runtime), listeners_(std::move(listeners)) {}
 
 MapCatalog::~MapCatalog() { worker_.join(); }
 
@@ -48,7 +51,9 @@ void MapCatalog::switch_to(std::int64_t id, std::function<void()> done) {
   auto grid = maps_.grid(id);
   if (!grid) return;
   const ActiveMap map{id, ++generation_,
-                      std::make_shared<const mapping::OccupancyGrid>(std::move(*grid))};
+                      std::make_shared<const mapping::OccupancyGrid>(std::move(*grid)),
+                      std::make_shared<const std::vector<mapping::KeepoutZone>>(
+                          zones_.list(id).value_or(std::vector<mapping::KeepoutZone>{}))};
   for (auto* listener : listeners_) listener->prepare_map(map);
   runtime_.post([this, map, done = std::move(done)](TickContext& context) {
     for (auto* listener : listeners_) listener->apply_map(map, context);
@@ -102,6 +107,51 @@ void MapCatalog::delete_map(std::int64_t id) {
       throw api::DomainException(api::ErrorKind::kConflict, "map_active",
                                  "the active map cannot be deleted: activate another");
   }
+}
+
+}  // namespace mobot::server
+
+namespace mobot::server {
+
+std::optional<std::vector<mapping::KeepoutZone>> MapCatalog::list_zones(std::int64_t map_id) const {
+  return zones_.list(map_id);
+}
+
+void MapCatalog::refresh_if_active(std::int64_t map_id, std::function<void()> done) {
+  if (maps_.active_id() == map_id) return switch_to(map_id, std::move(done));
+  done();
+}
+
+void MapCatalog::add_zone(std::int64_t map_id, const std::string& name,
+                          const std::vector<geometry::Point2D>& polygon,
+                          api::Completion<std::int64_t> done) {
+  if (const auto why = geometry::SimplePolygon::error(polygon)) {
+    return done(api::DomainError{api::ErrorKind::kInvalid, "invalid_polygon", *why});
+  }
+  boost::asio::post(worker_, [this, map_id, name, polygon, done = std::move(done)]() mutable {
+    std::lock_guard lock(mutex_);
+    const auto id = zones_.insert(map_id, name, polygon, unix_now_s());
+    if (!id) return done(unknown_map());
+    // Acknowledged once planning on the active map avoids it.
+    refresh_if_active(map_id, [done = std::move(done), id = *id]() mutable { done(id); });
+  });
+}
+
+void MapCatalog::delete_zone(std::int64_t map_id, std::int64_t zone_id,
+                             api::Completion<api::Done> done) {
+  boost::asio::post(worker_, [this, map_id, zone_id, done = std::move(done)]() mutable {
+    std::lock_guard lock(mutex_);
+    switch (zones_.remove(map_id, zone_id)) {
+      case db::ZoneStore::RemoveResult::kNoMap:
+        return done(unknown_map());
+      case db::ZoneStore::RemoveResult::kNoZone:
+        return done(
+            api::DomainError{api::ErrorKind::kNotFound, "unknown_zone", "no zone with this id"});
+      case db::ZoneStore::RemoveResult::kRemoved:
+        break;
+    }
+    refresh_if_active(map_id, [done = std::move(done)]() mutable { done(api::Done{}); });
+  });
 }
 
 }  // namespace mobot::server

@@ -8,6 +8,7 @@
 
 #include "api/ports/map_catalog_port.h"
 #include "db/map_store.h"
+#include "db/zone_store.h"
 #include "server/map_listener.h"
 #include "server/runtime.h"
 
@@ -18,7 +19,8 @@ namespace mobot::server {
 // between two ticks, and the `map` topic sends the new map.
 class MapCatalog final : public api::MapCatalogPort {
  public:
-  MapCatalog(db::MapStore& maps, Runtime& runtime, std::vector<MapListener*> listeners);
+  MapCatalog(db::MapStore& maps, db::ZoneStore& zones, Runtime& runtime,
+             std::vector<MapListener*> listeners);
   ~MapCatalog() override;
 
   std::vector<api::MapInfo> list_maps() const override;
@@ -27,6 +29,12 @@ class MapCatalog final : public api::MapCatalogPort {
   std::int64_t import_map(const std::string& name, const mapping::OccupancyGrid& grid) override;
   void activate_map(std::int64_t id, api::Completion<api::MapInfo> done) override;
   void delete_map(std::int64_t id) override;
+  std::optional<std::vector<mapping::KeepoutZone>> list_zones(std::int64_t map_id) const override;
+  void add_zone(std::int64_t map_id, const std::string& name,
+                const std::vector<geometry::Point2D>& polygon,
+                api::Completion<std::int64_t> done) override;
+  void delete_zone(std::int64_t map_id, std::int64_t zone_id,
+                   api::Completion<api::Done> done) override;
 
   // Makes the map called `name` active, storing `floor` under that name first when no map has it
   // (a simulated world's surveyed map). Thread-safe.
@@ -42,8 +50,12 @@ class MapCatalog final : public api::MapCatalogPort {
  private:
   // Prepares map `id` on the caller's thread and posts the switch; `done` runs on the loop.
   void switch_to(std::int64_t id, std::function<void()> done);
+  // After a change of map `map_id`'s zones: when it is the active map, its listeners get them
+  // before `done` runs; otherwise `done` runs at once. Called on the worker with the lock held.
+  void refresh_if_active(std::int64_t map_id, std::function<void()> done);
 
   db::MapStore& maps_;
+  db::ZoneStore& zones_;
   Runtime& runtime_;
   const std::vector<MapListener*> listeners_;
   std::mutex mutex_;  // serialises activation, deletion and the naming of world maps

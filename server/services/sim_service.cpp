@@ -1,5 +1,8 @@
 #include "server/services/sim_service.h"
 
+#include "server/services/after_commit.h"
+#include "server/services/refusals.h"
+
 #include <stdexcept>
 
 namespace mobot::server {
@@ -40,6 +43,7 @@ void SimService::sim_reset(const api::SimResetRequest& request, api::Completion<
     maps_.ensure_named_map(world->name, world->surveyed_map);
   }
   runtime_.post([this, world, request, done = std::move(done)](TickContext& context) mutable {
+    if (context.mapping) return done(mapping_active());
     if (!world && request.pose && !sim_.pose_is_free(*request.pose))
       return done(pose_in_obstacle());
     reset_on_loop(world, request, context);
@@ -50,6 +54,16 @@ void SimService::sim_reset(const api::SimResetRequest& request, api::Completion<
         done(api::Done{});
       });
     });
+  });
+}
+
+void SimService::kidnap(const geometry::Pose2D& pose, api::Completion<api::Done> done) {
+  runtime_.post([this, pose, done = std::move(done)](TickContext& context) mutable {
+    if (!sim_.pose_is_free(pose)) return done(pose_in_obstacle());
+    sim_.teleport(pose);
+    context.truth = api::SimTruth{context.now_s, pose, sim_.collision_count()};
+    context.event("sim_kidnap", {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}});
+    after_commit(recorder_, context, std::move(done), api::Done{});
   });
 }
 

@@ -1,5 +1,7 @@
 #include "server/stages/estimate_stage.h"
 
+#include <stdexcept>
+
 #include "api/prometheus_text.h"
 #include "core/perception/map_line_extractor.h"
 
@@ -9,11 +11,37 @@ Eigen::Matrix3d placement_covariance() {
   return Eigen::Matrix3d(Eigen::Vector3d(1e-4, 1e-4, 3e-4).asDiagonal());
 }
 
-EstimateStage::EstimateStage(const estimation::OdometryParams& odometry,
-                             std::unique_ptr<estimation::PoseEstimator> estimator,
-                             const geometry::Pose2D& start)
-    : odometry_(odometry, start), estimator_(std::move(estimator)) {
+EstimateStage::EstimateStage(const estimation::OdometryParams& odometry, EstimatorMaker make,
+                             const std::string& method, const geometry::Pose2D& start)
+    : odometry_(odometry, start), make_(std::move(make)), selected_(method) {
+  estimator_ = make_(method);
+  if (!estimator_) throw std::invalid_argument("no estimator is called '" + method + "'");
   estimator_->reset(start, placement_covariance());
+}
+
+bool EstimateStage::select(const std::string& method, TickContext& context) {
+  auto next = make_(method);
+  if (!next) return false;
+  selected_ = method;
+  hand_over(std::move(next), context);
+  return true;
+}
+
+void EstimateStage::substitute(std::unique_ptr<estimation::PoseEstimator> estimator,
+                               TickContext& context) {
+  hand_over(std::move(estimator), context);
+}
+
+void EstimateStage::restore_selected(TickContext& context) {
+  if (auto next = make_(selected_)) hand_over(std::move(next), context);
+}
+
+void EstimateStage::hand_over(std::unique_ptr<estimation::PoseEstimator> next,
+                              TickContext& context) {
+  next->set_map(map_);
+  next->reset(estimator_->pose(), estimator_->covariance());
+  estimator_ = std::move(next);
+  write(context);
 }
 
 void EstimateStage::step(TickContext& context) {
@@ -33,14 +61,31 @@ void EstimateStage::step(TickContext& context) {
   features_matched_.store(counters.features_matched, std::memory_order_relaxed);
   rejected_updates_.store(counters.rejected_updates, std::memory_order_relaxed);
   write(context);
+  publish_particles(context);
 }
 
-void EstimateStage::write(TickContext& context) const {
+void EstimateStage::publish_particles(TickContext& context) {
+  if (!particles_schedule_.due(context.now_s)) return;
+  particles_schedule_.taken(context.now_s);
+  std::vector<estimation::WeightedPose> particles = estimator_->particles(kMaxParticlesShown);
+  if (particles.empty()) return;
+  const std::size_t shown = particles.size();
+  context.bus->particles.publish({context.now_s, std::move(particles), shown});
+}
+
+void EstimateStage::write(TickContext& context) {
   context.pose = estimator_->pose();
   context.covariance = estimator_->covariance();
   context.odometry = odometry_.odometry();
   context.distance_m = distance_before_reset_m_ + odometry_.travelled_m();
   context.localization_method = estimator_->method();
+  context.localization_converged = estimator_->converged();
+  const bool changed = converged_ && *converged_ != context.localization_converged;
+  converged_ = context.localization_converged;
+  if (changed) {
+    context.event("localization",
+                  {{"method", context.localization_method}, {"converged", *converged_}});
+  }
 }
 
 void EstimateStage::reset(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance,
@@ -65,7 +110,8 @@ void EstimateStage::prepare_map(const ActiveMap& map) {
 }
 
 void EstimateStage::apply_map(const ActiveMap&, TickContext&) {
-  estimator_->set_map(std::move(prepared_map_));
+  map_ = std::move(prepared_map_);
+  estimator_->set_map(map_);
 }
 
 std::string EstimateStage::metrics_text() const {

@@ -92,6 +92,7 @@ void NavigateStage::step(TickContext& context) {
   if (context.scan_blocks_path && context.now_s - last_replan_s_ >= kReplanInterval_s) {
     request_replan(context);
   }
+  navigator_.set_local_costmap(context.local_costmap);
   const auto result = navigator_.tick(context.now_s, context.pose, context.odometry.twist,
                                       context.avoidance_echoes);
   if (result.replan_needed) request_replan(context);
@@ -122,11 +123,16 @@ void NavigateStage::publish_changes(TickContext& context) {
 }
 
 void NavigateStage::prepare_map(const ActiveMap& map) {
-  worker_.set_map(*map.grid, map.generation);
+  std::vector<std::vector<geometry::Point2D>> zones;
+  for (const auto& zone : *map.zones) zones.push_back(zone.polygon);
+  worker_.set_map(*map.grid, std::move(zones), map.generation);
 }
 
 void NavigateStage::apply_map(const ActiveMap&, TickContext& context) {
   end_active(navigation::GoalStatus::kCanceled, "map_changed", context);
+  if (auto costmap = worker_.static_grid()) {
+    context.bus->costmap.publish({context.now_s, std::move(costmap), false});
+  }
 }
 
 }  // namespace mobot::server

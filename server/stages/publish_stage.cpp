@@ -14,6 +14,7 @@ std::array<double, 9> to_array(const Eigen::Matrix3d& m) {
 
 std::string mode_of(const TickContext& context) {
   if (context.estop) return "estop";
+  if (context.mapping) return "mapping";
   if (context.teleop_active) return "teleop";
   if (context.navigating) return "navigating";
   return "idle";
@@ -28,6 +29,7 @@ api::RobotSnapshot robot_snapshot(const TickContext& context, const std::string&
   snapshot.pose = context.pose;
   snapshot.velocity = context.odometry.twist;
   snapshot.localization_method = context.localization_method;
+  snapshot.localization_converged = context.localization_converged;
   snapshot.covariance = to_array(context.covariance);
   snapshot.kinematics = kinematics;
   snapshot.estop = context.estop;
@@ -47,6 +49,7 @@ void PublishStage::step(TickContext& context) {
         {*context.scan, geometry::compose(context.pose, context.scan->sensor_in_base)});
   }
   if (context.sonar) bus.sonar.publish({*context.sonar, context.pose});
+  if (context.ir) bus.ir.publish({*context.ir, context.pose});
   if (status_schedule_.due(context.now_s)) {
     bus.status.publish(robot_snapshot(context, kinematics_));
     status_schedule_.taken(context.now_s);

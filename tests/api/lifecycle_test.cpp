@@ -187,6 +187,33 @@ TEST(LifecycleTest, SigkillKeepsAnAcknowledgedEstopEvent) {
   EXPECT_GE(event.at("t").get<double>(), engaged_at);
 }
 
+TEST(LifecycleTest, SigkillWhileMappingLosesNoSavedMap) {
+  TempDir dir;
+  std::int64_t map_id = -1;
+  {
+    MobotdProcess process(options_in(dir.path));
+    const HttpClient admin = admin_of(process);
+    ASSERT_EQ(admin.post("/api/v1/mapping", json{{"action", "start"}}).status, 200);
+    drive_for(admin, 0.0, 0.5, 2.0);
+    const HttpReply saved =
+        admin.post("/api/v1/mapping", json{{"action", "stop"}, {"save_as", "kept"}});
+    ASSERT_EQ(saved.status, 200) << saved.body;
+    map_id = saved.json().at("map_id").get<std::int64_t>();
+    // A second session is under way when the server dies.
+    ASSERT_EQ(admin.post("/api/v1/mapping", json{{"action", "start"}}).status, 200);
+    drive_for(admin, 0.0, 0.5, 1.0);
+    process.kill_hard();
+  }
+  MobotdProcess restarted(options_in(dir.path));
+  const HttpClient admin = admin_of(restarted);
+  const HttpReply map = admin.get("/api/v1/maps/" + std::to_string(map_id));
+  ASSERT_EQ(map.status, 200) << "the saved map was lost";
+  EXPECT_EQ(map.json().at("name"), "kept");
+  EXPECT_EQ(map.json().at("active"), true);
+  EXPECT_EQ(admin.get("/api/v1/maps/" + std::to_string(map_id) + "/map.pgm").status, 200);
+  EXPECT_EQ(admin.get("/api/v1/mapping").json().at("mapping"), false);
+}
+
 TEST(LifecycleTest, FirstStartWritesTheAdminTokenFile) {
   TempDir dir;
   std::string token;

@@ -201,7 +201,9 @@ TEST_F(OpenApiTest, EveryDocumentedOperationIsServedWithADocumentedStatus) {
       if (path == "/api/v1/stream") continue;  // a WebSocket upgrade: see stream_test.cpp
       std::string target = path;
       std::size_t at = 0;
-      while ((at = target.find("{id}")) != std::string::npos) target.replace(at, 4, "999999");
+      while ((at = target.find('{')) != std::string::npos) {
+        target.replace(at, target.find('}', at) - at + 1, "999999");
+      }
       ASSERT_EQ(target.find('{'), std::string::npos) << "unhandled path parameter in " << path;
       const std::string body = method == "post" || method == "put" ? "{}" : "";
       std::string upper = method;
@@ -249,7 +251,9 @@ TEST_F(OpenApiTest, DocumentedRolesAreEnforced) {
       ASSERT_TRUE(rank.count(role)) << path << ": " << role;
       std::string target = path;
       std::size_t id = 0;
-      while ((id = target.find("{id}")) != std::string::npos) target.replace(id, 4, "999999");
+      while ((id = target.find('{')) != std::string::npos) {
+        target.replace(id, target.find('}', id) - id + 1, "999999");
+      }
       std::string upper = method;
       for (auto& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
       // An invalid body, so that an allowed call changes nothing.

@@ -140,6 +140,70 @@ class FakeMaps : public MapCatalogPort {
   }
   void delete_map(std::int64_t) override { answers_.check(); }
 
+  // Map 1 exists; zones are kept as given (the fake does not judge polygons).
+  std::vector<mapping::KeepoutZone> zones;
+  std::optional<std::vector<mapping::KeepoutZone>> list_zones(std::int64_t map_id) const override {
+    if (map_id != 1) return std::nullopt;
+    return zones;
+  }
+  void add_zone(std::int64_t map_id, const std::string& name,
+                const std::vector<geometry::Point2D>& polygon,
+                Completion<std::int64_t> done) override {
+    if (map_id != 1) {
+      return answers_.complete(std::move(done), Result<std::int64_t>(DomainError{
+                                                    ErrorKind::kNotFound, "unknown_map", "none"}));
+    }
+    zones.push_back({static_cast<std::int64_t>(zones.size()) + 1, name, polygon});
+    answers_.complete(std::move(done), Result<std::int64_t>(zones.back().id));
+  }
+  void delete_zone(std::int64_t, std::int64_t, Completion<Done> done) override {
+    answers_.complete(std::move(done), Result<Done>(Done{}));
+  }
+
+ private:
+  Answers& answers_;
+};
+
+class FakeMapping : public MappingPort {
+ public:
+  explicit FakeMapping(Answers& answers) : answers_(answers) {}
+
+  MappingStatus status;
+  std::optional<std::string> last_save_as;
+
+  MappingStatus mapping_status() const override { return status; }
+  void start_mapping(Completion<MappingStatus> done) override {
+    status.mapping = true;
+    answers_.complete(std::move(done), Result<MappingStatus>(status));
+  }
+  void stop_mapping(std::optional<std::string> save_as, Completion<MappingStopped> done) override {
+    last_save_as = save_as;
+    MappingStopped stopped;
+    if (save_as) stopped.map_id = 5;
+    answers_.complete(std::move(done), Result<MappingStopped>(stopped));
+  }
+
+ private:
+  Answers& answers_;
+};
+
+class FakeLocalization : public LocalizationPort {
+ public:
+  explicit FakeLocalization(Answers& answers) : answers_(answers) {}
+
+  std::string method = "ekf";
+
+  std::vector<std::string> localization_methods() const override {
+    return {"ekf", "odometry", "particle_filter"};
+  }
+  void set_localization_method(const std::string& name, Completion<std::string> done) override {
+    method = name;
+    answers_.complete(std::move(done), Result<std::string>(name));
+  }
+  void localize_globally(Completion<std::string> done) override {
+    answers_.complete(std::move(done), Result<std::string>(std::string("particle_filter")));
+  }
+
  private:
   Answers& answers_;
 };
@@ -232,6 +296,11 @@ class FakeSim : public SimControlPort {
   void remove_sim_obstacle(int, Completion<Done> done) override {
     answers_.complete(std::move(done), Result<Done>(Done{}));
   }
+  std::optional<geometry::Pose2D> kidnapped_to;
+  void kidnap(const geometry::Pose2D& pose, Completion<Done> done) override {
+    kidnapped_to = pose;
+    answers_.complete(std::move(done), Result<Done>(Done{}));
+  }
 
  private:
   Answers& answers_;
@@ -241,6 +310,8 @@ struct FakePorts {
   Answers answers;
   FakeControl control{answers};
   FakeMaps maps{answers};
+  FakeMapping mapping{answers};
+  FakeLocalization localization{answers};
   FakeRuns runs{answers};
   FakeTokens tokens;
   FakeSweeps sweeps{answers};
@@ -249,7 +320,9 @@ struct FakePorts {
 
   // The doors into this fake robot, with or without the simulator's.
   Ports ports(bool simulated = true) {
-    return {control, maps, runs, tokens, sweeps, system, simulated ? &sim : nullptr};
+    return {control,      maps,   mapping,
+            localization, runs,   tokens,
+            sweeps,       system, simulated ? &sim : nullptr};
   }
 };
 

@@ -426,5 +426,100 @@ TEST_F(HttpSessionTest, AReplyAfterTheClientLeftIsHarmless) {
   EXPECT_EQ(body_of(*response), json({{"estop", false}}));
 }
 
+TEST_F(RestApiTest, MappingStartsStopsAndSavesWithTheContractsBodies) {
+  EXPECT_EQ(body_of(call(post("/api/v1/mapping", R"({"action":"start"})"))),
+            json({{"mapping", true}}));
+  const Response status = call(make_request(http::verb::get, "/api/v1/mapping", "viewer"));
+  EXPECT_EQ(status.result_int(), 200U);
+  EXPECT_EQ(body_of(status).at("mapping"), true);
+  EXPECT_TRUE(body_of(status).contains("loop_closures"));
+  EXPECT_EQ(body_of(call(post("/api/v1/mapping", R"({"action":"stop","save_as":"hall"})"))),
+            json({{"mapping", false}, {"map_id", 5}}));
+  EXPECT_EQ(robot_.mapping.last_save_as, "hall");
+  EXPECT_EQ(body_of(call(post("/api/v1/mapping", R"({"action":"stop"})"))),
+            json({{"mapping", false}}));
+  EXPECT_FALSE(robot_.mapping.last_save_as.has_value());
+}
+
+TEST_F(RestApiTest, BadMappingRequestsAreRefusedBeforeThePort) {
+  expect_error(call(post("/api/v1/mapping", R"({"action":"pause"})")), 400, "invalid_field");
+  expect_error(call(post("/api/v1/mapping", R"({})")), 400, "missing_field");
+  expect_error(call(post("/api/v1/mapping", R"({"action":"stop","save_as":""})")), 400,
+               "invalid_field");
+  expect_error(call(post("/api/v1/mapping", R"({"action":"stop","save_as":7})")), 400,
+               "invalid_field");
+  expect_error(call(post("/api/v1/mapping", "{nope")), 400, "malformed_json");
+  expect_error(
+      call(make_request(http::verb::post, "/api/v1/mapping", "viewer", R"({"action":"start"})")),
+      403, "forbidden");
+  EXPECT_FALSE(robot_.mapping.status.mapping);
+}
+
+TEST_F(RestApiTest, LocalizationMethodAndGlobalLocalization) {
+  const Response global = call(post("/api/v1/localization/global", ""));
+  EXPECT_EQ(global.result_int(), 202U);
+  EXPECT_EQ(body_of(global), json({{"method", "particle_filter"}}));
+  const Response chosen = call(make_request(http::verb::put, "/api/v1/localization/method",
+                                            "operator", R"({"method":"odometry"})"));
+  EXPECT_EQ(body_of(chosen), json({{"method", "odometry"}}));
+  expect_error(call(make_request(http::verb::put, "/api/v1/localization/method", "operator",
+                                 R"({"method":"slam"})")),
+               400, "unknown_method");
+  expect_error(call(make_request(http::verb::put, "/api/v1/localization/method", "operator",
+                                 R"({"method":null})")),
+               400, "missing_field");
+  expect_error(call(make_request(http::verb::put, "/api/v1/localization/method", "viewer",
+                                 R"({"method":"ekf"})")),
+               403, "forbidden");
+  EXPECT_EQ(robot_.localization.method, "odometry");
+  robot_.answers.refusal = DomainError{ErrorKind::kConflict, "no_map", "no map is active"};
+  expect_error(call(post("/api/v1/localization/global", "")), 409, "no_map");
+}
+
+TEST_F(RestApiTest, ZonesAreListedAddedAndDeleted) {
+  const Response added =
+      call(post("/api/v1/maps/1/zones", R"({"name":"stairs","polygon":[[0,0],[1,0],[1,1]]})"));
+  EXPECT_EQ(added.result_int(), 201U) << added.body();
+  EXPECT_EQ(body_of(added), json({{"id", 1}}));
+  const Response listed = call(make_request(http::verb::get, "/api/v1/maps/1/zones", "viewer"));
+  EXPECT_EQ(body_of(listed),
+            json::parse(R"([{"id":1,"name":"stairs","polygon":[[0.0,0.0],[1.0,0.0],[1.0,1.0]]}])"));
+  EXPECT_EQ(
+      call(make_request(http::verb::delete_, "/api/v1/maps/1/zones/1", "operator")).result_int(),
+      204U);
+  expect_error(call(make_request(http::verb::get, "/api/v1/maps/9/zones", "viewer")), 404,
+               "unknown_map");
+  expect_error(call(make_request(http::verb::delete_, "/api/v1/maps/1/zones/x", "operator")), 404,
+               "unknown_zone");
+}
+
+TEST_F(RestApiTest, MalformedPolygonsAreRefusedAndNothingIsStored) {
+  for (const char* body :
+       {R"({"polygon":[[0,0],[1,0]]})", R"({"polygon":"square"})",
+        R"({"polygon":[[0,0],[1,0],[1]]})", R"({"polygon":[[0,0],[1,0],["a",1]]})",
+        R"({"polygon":[[0,0],[1,0],[1,2e6]]})"}) {
+    SCOPED_TRACE(body);
+    expect_error(call(post("/api/v1/maps/1/zones", body)), 400, "invalid_polygon");
+  }
+  std::string big = R"({"polygon":[)";
+  for (int i = 0; i < 257; ++i)
+    big += (i ? "," : "") + std::string("[") + std::to_string(i) + ",0]";
+  expect_error(call(post("/api/v1/maps/1/zones", big + "]}")), 400, "invalid_polygon");
+  expect_error(call(post("/api/v1/maps/1/zones", R"({"name":"x"})")), 400, "missing_field");
+  expect_error(call(post("/api/v1/maps/1/zones", R"({"polygon":[[0,0],[1,0],[1,1e400]]})")), 400,
+               "malformed_json");
+  EXPECT_TRUE(robot_.maps.zones.empty());
+}
+
+TEST_F(RestApiTest, KidnapMovesTheSimulatedRobotOnly) {
+  EXPECT_EQ(call(post("/api/v1/sim/kidnap", R"({"x":1,"y":2,"theta":0.5})")).result_int(), 200U);
+  EXPECT_EQ(robot_.sim.kidnapped_to, (geometry::Pose2D{1, 2, 0.5}));
+  expect_error(call(post("/api/v1/sim/kidnap", R"({"x":1,"y":2})")), 400, "missing_field");
+  robot_.sim.kidnapped_to.reset();
+  expect_error(call(post("/api/v1/sim/kidnap", R"({"x":NaN,"y":2,"theta":0})")), 400,
+               "malformed_json");
+  EXPECT_FALSE(robot_.sim.kidnapped_to.has_value());
+}
+
 }  // namespace
 }  // namespace mobot::api
