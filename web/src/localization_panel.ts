@@ -17,6 +17,8 @@ export class LocalizationPanel {
   /** A global localization was started from this page and has not converged yet. */
   globalRunning = false;
   particles: { count: number; total: number } | null = null;
+  /** The estimator was switched from this page (PUT accepted). */
+  onEstimatorChanged: ((method: EstimatorName) => void) | null = null;
   private readonly presence = { global: 'unknown' as PathPresence, method: 'unknown' as PathPresence };
   private pending = false;
   private readonly select: HTMLSelectElement;
@@ -83,6 +85,7 @@ export class LocalizationPanel {
       toast(`Localization: ${reply?.method ?? method}`, 'ok');
       // The next status frame (1 Hz) brings the method; until then show what was asked.
       this.status = { ...this.status, method: parseLocalization({ method: reply?.method ?? method }).method };
+      this.onEstimatorChanged?.(method);
     } catch (error) {
       this.showError(localizationErrorText(error, 'method'));
     } finally {

@@ -216,6 +216,15 @@ const mapping = new MappingPanel(api, {
   },
 });
 live.onParticlesStale = () => localization.onParticles(null);
+/** The particle filter is not the estimator (any more): its last cloud goes now, not when it is stale. */
+function dropParticles(): void {
+  if (!live.mapView.layers.particles.current) return;
+  live.onParticles(null);
+  localization.onParticles(null);
+}
+localization.onEstimatorChanged = (method) => {
+  if (method !== 'particle_filter') dropParticles();
+};
 const zones = new ZonesPanel(api, live.mapView, { leaveOtherTools: () => nav.setMode(null) });
 byId<HTMLInputElement>('layer-ipabd').addEventListener('change', (e) => {
   const on = (e.target as HTMLInputElement).checked;
@@ -363,6 +372,9 @@ function onRobotStatus(status: RobotStatus): void {
   showEstop(status.estop);
   mapping.onStatus(status);
   localization.onStatus(status);
+  const family = localization.status.method?.family;
+  // A cloud arriving after this (the filter started again) is drawn again.
+  if (family && family !== 'particle_filter' && !localization.globalRunning) dropParticles();
 }
 
 /** An `ir_safety` event: the IR ring saw something in a safety zone and the robot reacted. */
