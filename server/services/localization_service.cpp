@@ -44,7 +44,7 @@ void LocalizationService::localize_globally(api::Completion<std::string> done) {
                                    "this robot has no particle filter"});
     }
     if (estimate_.selected() != kGlobalMethod) estimate_.select(kGlobalMethod, context);
-    if (!estimate_.estimator().start_global_localization()) {
+    if (!estimate_.start_global_localization(context)) {
       return done(api::DomainError{api::ErrorKind::kConflict, "no_map",
                                    "the active map has no free space to localize in"});
     }

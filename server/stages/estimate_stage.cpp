@@ -32,6 +32,12 @@ void EstimateStage::substitute(std::unique_ptr<estimation::PoseEstimator> estima
   hand_over(std::move(estimator), context);
 }
 
+bool EstimateStage::start_global_localization(TickContext& context) {
+  if (!estimator_->start_global_localization()) return false;
+  write(context);
+  return true;
+}
+
 void EstimateStage::restore_selected(TickContext& context) {
   if (auto next = make_(selected_)) hand_over(std::move(next), context);
 }

@@ -47,6 +47,8 @@ class EstimateStage final : public Stage, public MapListener {
   // Back to the selected method, from the current estimate.
   void restore_selected(TickContext& context);
   const std::string& selected() const { return selected_; }
+  // Spreads the estimator's belief over the active map's free space; false when it cannot.
+  bool start_global_localization(TickContext& context);
   bool has_map() const { return map_ && map_->grid && map_->grid->width() > 0; }
 
   const estimation::PoseEstimator& estimator() const { return *estimator_; }
