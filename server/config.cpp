@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -98,6 +99,35 @@ void read_mux(const Reader& reader, RobotSection& robot) {
   }
 }
 
+// The simulator's odometry errors, a mapping inside sim: each key optional, every key known.
+void read_sim_odometry(const Reader& reader, SimSection& sim) {
+  const YAML::Node node = reader.lookup("sim", "odometry");
+  if (!node || node.IsNull()) return;
+  if (!node.IsMap()) throw ConfigError("sim.odometry: expected a mapping");
+  static const std::set<std::string> kKeys{"scale_error", "heading_drift_rad_per_m",
+                                           "step_noise_fraction"};
+  for (const auto& field : node) {
+    const auto name = field.first.as<std::string>();
+    if (!kKeys.contains(name)) throw ConfigError("sim.odometry." + name + ": unknown key");
+  }
+  const auto number = [&node](const std::string& key, double min,
+                              double max) -> std::optional<double> {
+    const YAML::Node value = node[key];
+    if (!value) return std::nullopt;
+    double out = 0.0;
+    try {
+      out = value.as<double>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError("sim.odometry." + key + ": expected a number");
+    }
+    check_range("sim.odometry." + key, out, min, max);
+    return out;
+  };
+  sim.odometry.scale_error = number("scale_error", -0.2, 0.2);
+  sim.odometry.heading_drift_rad_per_m = number("heading_drift_rad_per_m", -0.1, 0.1);
+  sim.odometry.step_noise_fraction = number("step_noise_fraction", 0.0, 0.3);
+}
+
 // A misspelt key would otherwise be ignored silently and the default used instead.
 void reject_unknown_keys(const YAML::Node& root) {
   static const std::map<std::string, std::set<std::string>> kKnown{
@@ -108,7 +138,7 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2",
         "max_angular_accel_radps2"}},
-      {"sim", {"world", "worlds_dir", "seed", "time_scale", "provide_map"}},
+      {"sim", {"world", "worlds_dir", "seed", "time_scale", "odometry", "provide_map"}},
       {"odometry", {"left_wheel_radius_m", "right_wheel_radius_m", "track_m"}},
       {"localization", {"method"}},
       {"navigation",
@@ -119,9 +149,10 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"stream", {"max_frames_per_topic"}},
   };
   // Plugin sections: each plugin checks its own keys (server/plugins).
-  static const std::set<std::string> kScalars{"backend",    "run_name",   "mux",
+  static const std::set<std::string> kScalars{"backend",    "run_name",    "mux",
                                               "planners",   "controllers", "estimators",
-                                              "kinematics", "slam",        "costmaps"};
+                                              "kinematics", "slam",        "costmaps",
+                                              "ir_safety",  "sonar_emergency"};
   for (const auto& entry : root) {
     const auto key = entry.first.as<std::string>();
     if (kScalars.contains(key)) continue;
@@ -193,6 +224,7 @@ Config load_config(const std::filesystem::path& file) {
   reader.read("sim", "seed", config.sim.seed);
   reader.read_number("sim", "time_scale", config.sim.time_scale, 0.1, 100.0);
   reader.read("sim", "provide_map", config.sim.provide_map);
+  read_sim_odometry(reader, config.sim);
 
   reader.read_number("odometry", "left_wheel_radius_m", config.odometry.left_wheel_radius_m, 0.0,
                      1.0);

@@ -10,6 +10,7 @@
 
 #include "core/control/command_mux.h"
 #include "core/control/velocity_limits.h"
+#include "drivers/backend_factory.h"
 
 namespace mobot::server {
 
@@ -49,6 +50,9 @@ struct SimSection {
   // The world's floor plan is stored and activated as the robot's map at start. false: the robot
   // starts without a map, as in a building nobody has mapped yet (docs/algorithms.md C7).
   bool provide_map = true;
+  // sim.odometry: {scale_error, heading_drift_rad_per_m, step_noise_fraction}; each unset key
+  // keeps the robot profile's value (docs/algorithms.md R2).
+  drivers::SimOdometryErrors odometry;
 };
 
 // Wheel geometry odometry integrates with. Unset (0) means the robot profile's nominal values;
