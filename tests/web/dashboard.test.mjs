@@ -512,20 +512,26 @@ async function main() {
     });
 
     await step('a plain click sends a goal without heading; Cancel cancels it', async () => {
-      await page.click('[data-testid=goal-set]');
-      const before = (await hooks(page)).lastGoal?.id ?? 0;
-      await pressDrag(page, { x: 12.0, y: 7.5 }, null);
-      await page.waitForFunction((id) => (window.__mobot.lastGoal?.id ?? 0) > id, before, { timeout: 3000 });
-      if (await page.isVisible('[data-testid=goal-error]')) throw new Error('the earlier error is still shown after a goal was accepted');
-      const id = await page.evaluate(() => window.__mobot.lastGoal.id);
-      const goal = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
-      if ('theta' in goal.target) throw new Error(`a plain click sent theta ${goal.target.theta}`);
-      await page.waitForSelector('[data-testid=goal-cancel]:not([disabled])', { timeout: 3000 });
-      await page.click('[data-testid=goal-cancel]');
-      await page.waitForSelector('[data-testid=goal-status][data-status=canceled]', { timeout: 3000 });
-      const after = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
-      if (after.status !== 'canceled') throw new Error(`GET /goals/${id} says ${after.status}`);
-      return `goal #${id} ${after.status}${after.reason ? ` (${after.reason})` : ''}`;
+      // At 1x: at 5x the robot may reach the goal before a loaded machine gets to Cancel.
+      await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 1 });
+      try {
+        await page.click('[data-testid=goal-set]');
+        const before = (await hooks(page)).lastGoal?.id ?? 0;
+        await pressDrag(page, { x: 12.0, y: 7.5 }, null);
+        await page.waitForFunction((id) => (window.__mobot.lastGoal?.id ?? 0) > id, before, { timeout: 3000 });
+        if (await page.isVisible('[data-testid=goal-error]')) throw new Error('the earlier error is still shown after a goal was accepted');
+        const id = await page.evaluate(() => window.__mobot.lastGoal.id);
+        const goal = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
+        if ('theta' in goal.target) throw new Error(`a plain click sent theta ${goal.target.theta}`);
+        await page.waitForSelector('[data-testid=goal-cancel]:not([disabled])', { timeout: 3000 });
+        await page.click('[data-testid=goal-cancel]');
+        await page.waitForSelector('[data-testid=goal-status][data-status=canceled]', { timeout: 3000 });
+        const after = await rest(base, token, 'GET', `/api/v1/goals/${id}`);
+        if (after.status !== 'canceled') throw new Error(`GET /goals/${id} says ${after.status}`);
+        return `goal #${id} ${after.status}${after.reason ? ` (${after.reason})` : ''}`;
+      } finally {
+        await rest(base, token, 'PUT', '/api/v1/sim/clock', { time_scale: 5 });
+      }
     });
 
     await step('sim tools: drop an obstacle (listed and drawn), remove it; set the initial pose', async () => {
