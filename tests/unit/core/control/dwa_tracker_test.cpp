@@ -211,8 +211,13 @@ TEST(DwaTracker, StopsAndReportsBlockedWhenBoxedIn) {
 }
 
 TEST(DwaTracker, StopsWhenAWallCrossesThePath) {
+  // A corridor 1.6 m wide (walls at y = +-0.8 m) closed by a wall at x = 1.5 m.
   std::vector<mapping::CellIndex> wall;
-  for (int y = 0; y < 80; ++y) wall.push_back({50, y});  // x = 1.5 m, the whole room's height
+  for (int y = 24; y <= 56; ++y) wall.push_back({50, y});
+  for (int x = 0; x < 120; ++x) {
+    wall.push_back({x, 24});
+    wall.push_back({x, 56});
+  }
   costmap::LayeredCostmap costmap = local_costmap(room(wall));
   DwaTracker tracker;
   ASSERT_TRUE(tracker.set_path(straight(), std::nullopt));
