@@ -8,6 +8,8 @@ namespace mobot::slam {
 
 namespace {
 constexpr int kMaxLevels = 6;
+// Room beyond the window for the covariance's neighbourhood of the best candidate.
+constexpr int kCovarianceMargin = 8;
 }  // namespace
 
 CorrelativeScanMatcher::CorrelativeScanMatcher(const ProbabilityGrid& grid,
@@ -18,47 +20,58 @@ CorrelativeScanMatcher::CorrelativeScanMatcher(const ProbabilityGrid& grid,
   }
   if (grid.empty()) return;
   const int window_cells = static_cast<int>(std::ceil(max_linear_window_m / limits_.resolution_m));
-  // The coarsest level's cells span the whole window (one first candidate per angle) up to 32
+  // The coarsest level's cells span half the window (3 x 3 first candidates per angle), up to 32
   // cells: coarser levels would cost more to build than their pruning saves.
   int level_count = 1;
-  while ((1 << (level_count - 1)) < 2 * window_cells + 1 && level_count < kMaxLevels) ++level_count;
-  padding_ = (1 << (level_count - 1)) - 1;
-  padded_width_ = limits_.width + padding_;
-  padded_height_ = limits_.height + padding_;
+  while ((1 << (level_count - 1)) < window_cells && level_count < kMaxLevels) ++level_count;
+  max_window_cells_ = window_cells;
+  padding_ = window_cells + kCovarianceMargin;
+  padded_width_ = limits_.width + 2 * padding_;
+  padded_height_ = limits_.height + 2 * padding_;
   const std::size_t size =
       static_cast<std::size_t>(padded_width_) * static_cast<std::size_t>(padded_height_);
-  levels_.assign(static_cast<std::size_t>(level_count), std::vector<float>(size, 0.0F));
+  levels_.assign(static_cast<std::size_t>(level_count), std::vector<std::uint8_t>(size, 0));
   for (int y = 0; y < limits_.height; ++y) {
     for (int x = 0; x < limits_.width; ++x) {
+      const float v = std::clamp(grid.at(x, y), 0.0F, 1.0F);
       levels_[0][static_cast<std::size_t>(y + padding_) * padded_width_ + (x + padding_)] =
-          grid.at(x, y);
+          static_cast<std::uint8_t>(std::lround(v * 255.0F));
     }
   }
+  // Level h from level h-1: the max of four cells 2^(h-1) apart, first along x, then along y.
+  std::vector<std::uint8_t> along_x(size);
   for (int level = 1; level < level_count; ++level) {
-    const int step = 1 << (level - 1);
-    const std::vector<float>& finer = levels_[static_cast<std::size_t>(level - 1)];
-    std::vector<float>& coarser = levels_[static_cast<std::size_t>(level)];
-    auto at = [&](int px, int py) {
-      return px < padded_width_ && py < padded_height_
-                 ? finer[static_cast<std::size_t>(py) * padded_width_ + px]
-                 : 0.0F;
-    };
-    for (int py = 0; py < padded_height_; ++py) {
-      for (int px = 0; px < padded_width_; ++px) {
-        coarser[static_cast<std::size_t>(py) * padded_width_ + px] =
-            std::max(std::max(at(px, py), at(px + step, py)),
-                     std::max(at(px, py + step), at(px + step, py + step)));
+    const auto step = static_cast<std::size_t>(1 << (level - 1));
+    const std::vector<std::uint8_t>& finer = levels_[static_cast<std::size_t>(level - 1)];
+    std::vector<std::uint8_t>& coarser = levels_[static_cast<std::size_t>(level)];
+    const auto w = static_cast<std::size_t>(padded_width_);
+    const auto h = static_cast<std::size_t>(padded_height_);
+    for (std::size_t py = 0; py < h; ++py) {
+      const std::uint8_t* in = &finer[py * w];
+      std::uint8_t* out = &along_x[py * w];
+      for (std::size_t px = 0; px < w; ++px) {
+        out[px] = px + step < w ? std::max(in[px], in[px + step]) : in[px];
+      }
+    }
+    for (std::size_t py = 0; py < h; ++py) {
+      const std::uint8_t* in = &along_x[py * w];
+      std::uint8_t* out = &coarser[py * w];
+      if (py + step < h) {
+        const std::uint8_t* above = &along_x[(py + step) * w];
+        for (std::size_t px = 0; px < w; ++px) out[px] = std::max(in[px], above[px]);
+      } else {
+        std::copy(in, in + w, out);
       }
     }
   }
 }
 
 double CorrelativeScanMatcher::score(const DiscreteScan& scan, int level, int dx, int dy) const {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < scan.cells_x.size(); ++i) {
-    sum += value(level, scan.cells_x[i] + dx, scan.cells_y[i] + dy);
-  }
-  return sum / static_cast<double>(scan.cells_x.size());
+  const std::uint8_t* cells =
+      levels_[static_cast<std::size_t>(level)].data() + (dy * padded_width_ + dx);
+  std::uint32_t sum = 0;
+  for (const std::int32_t index : scan.cells) sum += cells[index];
+  return static_cast<double>(sum) / (255.0 * static_cast<double>(scan.point_count));
 }
 
 void CorrelativeScanMatcher::search(const std::vector<DiscreteScan>& scans,
@@ -120,7 +133,8 @@ std::optional<CorrelativeMatch> CorrelativeScanMatcher::match(
   const int half_steps =
       std::min(2000, static_cast<int>(std::ceil(options.angular_window_rad / step_rad)));
   // The window in cells, capped at what the precomputed levels can bound.
-  const int window_cells = static_cast<int>(std::ceil(options.linear_window_m / res));
+  const int window_cells =
+      std::min(max_window_cells_, static_cast<int>(std::ceil(options.linear_window_m / res)));
 
   // Rotated scans, discretised once per angle; the window's (dx, dy) then shifts whole cells.
   const int first_step = -half_steps - options.covariance_half_steps;
@@ -132,13 +146,16 @@ std::optional<CorrelativeMatch> CorrelativeScanMatcher::match(
     scan.angle_rad = initial_pose.theta + k * step_rad;
     const double c = std::cos(scan.angle_rad);
     const double s = std::sin(scan.angle_rad);
-    scan.cells_x.reserve(points_in_base.size());
-    scan.cells_y.reserve(points_in_base.size());
+    scan.cells.reserve(points_in_base.size());
+    scan.point_count = points_in_base.size();
     for (const auto& p : points_in_base) {
       const double x = initial_pose.x + c * p.x - s * p.y;
       const double y = initial_pose.y + s * p.x + c * p.y;
-      scan.cells_x.push_back(static_cast<int>(std::floor((x - limits_.origin_x_m) / res)));
-      scan.cells_y.push_back(static_cast<int>(std::floor((y - limits_.origin_y_m) / res)));
+      const double cx = std::floor((x - limits_.origin_x_m) / res);
+      const double cy = std::floor((y - limits_.origin_y_m) / res);
+      if (!(cx >= 0.0 && cy >= 0.0 && cx < limits_.width && cy < limits_.height)) continue;
+      scan.cells.push_back(static_cast<std::int32_t>(
+          (static_cast<int>(cy) + padding_) * padded_width_ + static_cast<int>(cx) + padding_));
     }
     scans.push_back(std::move(scan));
   }
@@ -166,7 +183,7 @@ std::optional<CorrelativeMatch> CorrelativeScanMatcher::match(
               geometry::wrap_angle(scans[static_cast<std::size_t>(best.scan)].angle_rad)};
 
   // Response around the best, as a distribution over the offsets (Olson's covariance).
-  const int hc = options.covariance_half_cells;
+  const int hc = std::min(options.covariance_half_cells, kCovarianceMargin);
   const int hs = options.covariance_half_steps;
   double weight_sum = 0.0;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();

@@ -43,14 +43,17 @@ void check_options(const GraphSlamOptions& o) {
                            o.loop_search_linear_m,
                            o.loop_search_angular_rad,
                            o.loop_min_score,
-                           o.loop_huber_delta};
+                           o.loop_huber_delta,
+                           o.loop_covariance_scale,
+                           o.match_covariance_scale};
   for (double v : values) {
     if (!std::isfinite(v) || v < 0.0) {
       throw std::invalid_argument("GraphSlamOptions: every value must be finite and >= 0");
     }
   }
   if (!(o.max_range_m > 0.0) || !(o.resolution_m > 0.0) || !(o.match_field_sigma_m > 0.0) ||
-      !(o.odom_min_sigma_m > 0.0) || !(o.odom_min_sigma_rad > 0.0)) {
+      !(o.odom_min_sigma_m > 0.0) || !(o.odom_min_sigma_rad > 0.0) ||
+      !(o.loop_covariance_scale > 0.0) || !(o.match_covariance_scale > 0.0)) {
     throw std::invalid_argument(
         "GraphSlamOptions: max_range_m, resolution_m, match_field_sigma_m and the odometry "
         "sigma floors must be > 0");
@@ -222,8 +225,8 @@ geometry::Pose2D GraphSlam::add_scan(const msgs::LaserScan& scan,
     edge.from = last_node;
     edge.relative = from_node;
     edge.kind = EdgeKind::kSequential;
-    edge.information =
-        symmetric_inverse(rotate_covariance(*match_covariance, last_node_pose.theta));
+    edge.information = symmetric_inverse(
+        o.match_covariance_scale * rotate_covariance(*match_covariance, last_node_pose.theta));
     match_edge = edge;
     const Eigen::Vector3d odom(s.odom_since_node.x, s.odom_since_node.y, s.odom_since_node.theta);
     const Eigen::Vector3d matched(
@@ -268,6 +271,7 @@ geometry::Pose2D GraphSlam::add_scan(const msgs::LaserScan& scan,
     loop.angular_window_rad = o.loop_search_angular_rad;
     loop.min_score = o.loop_min_score;
     loop.max_candidates = o.max_loop_candidates_per_node;
+    loop.covariance_scale = o.loop_covariance_scale;
     loop.submap = {o.resolution_m, o.match_field_sigma_m};
     loop.refiner.max_iterations = o.refine_max_iterations;
     loop.refiner.translation_weight = o.refine_translation_weight;

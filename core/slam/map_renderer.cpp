@@ -12,17 +12,15 @@ namespace {
 
 void check_options(const MapRenderOptions& options) {
   const bool finite = std::isfinite(options.resolution_m) && std::isfinite(options.align_m) &&
-                      std::isfinite(options.margin_m) && std::isfinite(options.hit_log_odds) &&
-                      std::isfinite(options.miss_log_odds) &&
-                      std::isfinite(options.occupied_probability) &&
-                      std::isfinite(options.free_probability) && std::isfinite(options.max_range_m);
+                      std::isfinite(options.margin_m) &&
+                      std::isfinite(options.occupied_hit_ratio) &&
+                      std::isfinite(options.max_range_m);
   if (!finite || options.resolution_m <= 0.0 || options.align_m < 0.0 || options.margin_m < 0.0 ||
-      options.hit_log_odds <= 0.0 || options.miss_log_odds >= 0.0 ||
-      options.free_probability >= options.occupied_probability || options.free_probability < 0.0 ||
-      options.occupied_probability > 1.0 || options.max_range_m <= 0.0) {
+      options.occupied_hit_ratio <= 0.0 || options.occupied_hit_ratio > 1.0 ||
+      options.min_visits < 1 || options.max_range_m <= 0.0) {
     throw std::invalid_argument(
-        "MapRenderOptions: resolution > 0, align and margin >= 0, hit > 0 > miss, "
-        "0 <= free < occupied <= 1, max_range > 0");
+        "MapRenderOptions: resolution > 0, align and margin >= 0, 0 < hit ratio <= 1, "
+        "min_visits >= 1, max_range > 0");
   }
 }
 
@@ -90,14 +88,12 @@ mapping::OccupancyGrid render_occupancy_grid(std::span<const PosedScan> scans,
   mapping::OccupancyGrid grid(std::max(width, 1), std::max(height, 1), res,
                               geometry::Pose2D{origin_x, origin_y, 0.0});
 
-  std::vector<float> log_odds(static_cast<std::size_t>(grid.width()) * grid.height(), 0.0F);
-  std::vector<std::uint8_t> observed(log_odds.size(), 0);
+  std::vector<std::uint32_t> hits(static_cast<std::size_t>(grid.width()) * grid.height(), 0);
+  std::vector<std::uint32_t> visits(hits.size(), 0);
   auto index = [&](mapping::CellIndex c) {
     return static_cast<std::size_t>(c.y) * static_cast<std::size_t>(grid.width()) +
            static_cast<std::size_t>(c.x);
   };
-  const auto hit = static_cast<float>(options.hit_log_odds);
-  const auto miss = static_cast<float>(options.miss_log_odds);
 
   // Bresenham from the sensor's cell to the end cell; every cell before the end is passed through.
   auto cast = [&](mapping::CellIndex from, mapping::CellIndex to, bool end_is_hit) {
@@ -110,10 +106,7 @@ mapping::OccupancyGrid render_occupancy_grid(std::span<const PosedScan> scans,
     int err = dx + dy;
     while (x != to.x || y != to.y) {
       const mapping::CellIndex cell{x, y};
-      if (grid.contains(cell)) {
-        log_odds[index(cell)] += miss;
-        observed[index(cell)] = 1;
-      }
+      if (grid.contains(cell)) ++visits[index(cell)];
       const int e2 = 2 * err;
       if (e2 >= dy) {
         err += dy;
@@ -125,8 +118,8 @@ mapping::OccupancyGrid render_occupancy_grid(std::span<const PosedScan> scans,
       }
     }
     if (grid.contains(to)) {
-      observed[index(to)] = 1;
-      if (end_is_hit) log_odds[index(to)] += hit;
+      ++visits[index(to)];
+      if (end_is_hit) ++hits[index(to)];
     }
   };
 
@@ -151,15 +144,10 @@ mapping::OccupancyGrid render_occupancy_grid(std::span<const PosedScan> scans,
 
   auto& cells = grid.mutable_cells();
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (observed[i] == 0) continue;
-    const double p = 1.0 / (1.0 + std::exp(-static_cast<double>(log_odds[i])));
-    if (p >= options.occupied_probability) {
-      cells[i] = mapping::OccupancyGrid::kOccupied;
-    } else if (p <= options.free_probability) {
-      cells[i] = mapping::OccupancyGrid::kFree;
-    } else {
-      cells[i] = static_cast<std::uint8_t>(std::lround(p * 100.0));
-    }
+    if (visits[i] < static_cast<std::uint32_t>(options.min_visits)) continue;
+    const double ratio = static_cast<double>(hits[i]) / static_cast<double>(visits[i]);
+    cells[i] = ratio >= options.occupied_hit_ratio ? mapping::OccupancyGrid::kOccupied
+                                                   : mapping::OccupancyGrid::kFree;
   }
   return grid;
 }

@@ -17,14 +17,12 @@ struct MapRenderOptions {
   double align_m = 3.2;
   // Empty border around the observed area, so walls at the edge keep a free/unknown rim.
   double margin_m = 0.5;
-  // Log-odds added per hit / per pass-through (Cartographer's hit 0.55 / miss 0.49 probabilities
-  // are too timid for one-shot rendering; gmapping-like counting gives crisp walls).
-  double hit_log_odds = 0.85;
-  double miss_log_odds = -0.4;
-  // A cell whose occupancy probability is >= this renders as occupied (100), <= free_probability
-  // as free (0), in between as its percentage.
-  double occupied_probability = 0.65;
-  double free_probability = 0.196;
+  // Karto's / slam_toolbox's occupancy rule: a cell is occupied (100) when at least this fraction
+  // of the rays that reached it ended in it, free (0) otherwise. Counting beats log-odds for a
+  // one-shot render: a wall cell grazed by the neighbouring beams of the same scan stays a wall.
+  double occupied_hit_ratio = 0.1;
+  // Cells reached by fewer rays than this stay unknown (255).
+  int min_visits = 1;
   // Beams beyond this range mark free space up to it but no hit (gmapping's maxUrange 8 m).
   double max_range_m = 8.0;
 };

@@ -56,35 +56,106 @@ void ProbabilityGrid::smear_points(std::span<const geometry::Point2D> points_in_
   const double res = limits_.resolution_m;
   const int radius = std::max(1, static_cast<int>(std::ceil(3.0 * sigma_m / res)));
   const double inv_two_sigma2 = 1.0 / (2.0 * sigma_m * sigma_m);
-  std::vector<double> weight_x(static_cast<std::size_t>(2 * radius + 1));
+  // The Gaussian is separable, and a point's offset within its cell is quantised to 1/16 of a
+  // cell (3 mm at 0.05 m): one table of 1-D weights then serves every point without an exp.
+  constexpr int kBins = 16;
+  const int taps = 2 * radius + 1;
+  std::vector<float> table(static_cast<std::size_t>(kBins * taps));
+  for (int bin = 0; bin < kBins; ++bin) {
+    const double frac = (bin + 0.5) / kBins - 0.5;  // the point's offset from its cell's centre
+    for (int k = -radius; k <= radius; ++k) {
+      const double d = (k - frac) * res;
+      table[static_cast<std::size_t>(bin * taps + k + radius)] =
+          static_cast<float>(std::exp(-d * d * inv_two_sigma2));
+    }
+  }
+  auto weights_of = [&](double c, int& centre) {
+    centre = static_cast<int>(std::lround(c));
+    int bin = static_cast<int>(std::floor((c - centre + 0.5) * kBins));
+    bin = std::clamp(bin, 0, kBins - 1);
+    return &table[static_cast<std::size_t>(bin * taps)];
+  };
   for (const auto& p : points_in_map) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
     const double cx = limits_.to_cell_x(p.x);
     const double cy = limits_.to_cell_y(p.y);
-    const int ix = static_cast<int>(std::lround(cx));
-    const int iy = static_cast<int>(std::lround(cy));
-    if (ix < -radius || iy < -radius || ix >= limits_.width + radius ||
-        iy >= limits_.height + radius) {
+    if (cx < -radius - 1.0 || cy < -radius - 1.0 || cx > limits_.width + radius ||
+        cy > limits_.height + radius) {
       continue;
     }
+    int ix = 0;
+    int iy = 0;
+    const float* wx = weights_of(cx, ix);
+    const float* wy = weights_of(cy, iy);
     const int y0 = std::max(0, iy - radius);
     const int y1 = std::min(limits_.height - 1, iy + radius);
     const int x0 = std::max(0, ix - radius);
     const int x1 = std::min(limits_.width - 1, ix + radius);
-    // The Gaussian is separable: one exp per row and per column instead of one per cell.
-    for (int x = x0; x <= x1; ++x) {
-      const double dx = (x - cx) * res;
-      weight_x[static_cast<std::size_t>(x - x0)] = std::exp(-dx * dx * inv_two_sigma2);
-    }
     for (int y = y0; y <= y1; ++y) {
-      const double dy = (y - cy) * res;
-      const double wy = std::exp(-dy * dy * inv_two_sigma2);
+      const float w = wy[y - iy + radius];
       float* row = &cells_[index(0, y)];
+      for (int x = x0; x <= x1; ++x) row[x] = std::max(row[x], w * wx[x - ix + radius]);
+    }
+  }
+}
+
+void ProbabilityGrid::smear_polyline(std::span<const geometry::Point2D> points_in_map,
+                                     double sigma_m, double max_gap_m) {
+  if (!(sigma_m > 0.0) || !std::isfinite(sigma_m) || !(max_gap_m >= 0.0)) {
+    throw std::invalid_argument("ProbabilityGrid::smear_polyline: sigma > 0, gap >= 0");
+  }
+  if (cells_.empty()) return;
+  const double res = limits_.resolution_m;
+  const double reach_m = 3.0 * sigma_m;
+  const double reach2 = reach_m * reach_m;
+  // exp(-d^2 / 2 sigma^2) tabulated over d^2 in [0, (3 sigma)^2].
+  constexpr int kTable = 512;
+  std::array<float, kTable + 1> table{};
+  for (int i = 0; i <= kTable; ++i) {
+    const double d2 = reach2 * i / kTable;
+    table[static_cast<std::size_t>(i)] =
+        static_cast<float>(std::exp(-d2 / (2.0 * sigma_m * sigma_m)));
+  }
+  const double to_index = kTable / reach2;
+  auto smear_segment = [&](const geometry::Point2D& a, const geometry::Point2D& b) {
+    const double ax = limits_.to_cell_x(a.x) * res, ay = limits_.to_cell_y(a.y) * res;
+    const double bx = limits_.to_cell_x(b.x) * res, by = limits_.to_cell_y(b.y) * res;
+    const double ex = bx - ax, ey = by - ay;
+    const double length2 = ex * ex + ey * ey;
+    const int x0 = std::max(0, static_cast<int>(std::floor((std::min(ax, bx) - reach_m) / res)));
+    const int x1 = std::min(limits_.width - 1,
+                            static_cast<int>(std::ceil((std::max(ax, bx) + reach_m) / res)));
+    const int y0 = std::max(0, static_cast<int>(std::floor((std::min(ay, by) - reach_m) / res)));
+    const int y1 = std::min(limits_.height - 1,
+                            static_cast<int>(std::ceil((std::max(ay, by) + reach_m) / res)));
+    for (int y = y0; y <= y1; ++y) {
+      float* row = &cells_[index(0, y)];
+      const double py = y * res - ay;
       for (int x = x0; x <= x1; ++x) {
-        const auto value = static_cast<float>(wy * weight_x[static_cast<std::size_t>(x - x0)]);
-        row[x] = std::max(row[x], value);
+        const double px = x * res - ax;
+        double t = length2 > 0.0 ? (px * ex + py * ey) / length2 : 0.0;
+        t = std::clamp(t, 0.0, 1.0);
+        const double dx = px - t * ex, dy = py - t * ey;
+        const double d2 = dx * dx + dy * dy;
+        if (d2 >= reach2) continue;
+        row[x] = std::max(row[x], table[static_cast<std::size_t>(d2 * to_index)]);
       }
     }
+  };
+  const double max_gap2 = max_gap_m * max_gap_m;
+  for (std::size_t i = 0; i < points_in_map.size(); ++i) {
+    const auto& p = points_in_map[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    bool joined = false;
+    if (i + 1 < points_in_map.size()) {
+      const auto& q = points_in_map[i + 1];
+      const double gx = q.x - p.x, gy = q.y - p.y;
+      if (std::isfinite(q.x) && std::isfinite(q.y) && gx * gx + gy * gy <= max_gap2) {
+        smear_segment(p, q);
+        joined = true;
+      }
+    }
+    if (!joined) smear_segment(p, p);
   }
 }
 

@@ -55,6 +55,13 @@ class ProbabilityGrid {
   // std::invalid_argument on a non-positive sigma.
   void smear_points(std::span<const geometry::Point2D> points_in_map, double sigma_m);
 
+  // Like smear_points, but consecutive points closer than `max_gap_m` (neighbouring beams on one
+  // surface) are joined and the distance is to the segment between them: a wall seen with beams
+  // 14 cm apart (1 deg at 8 m) becomes one even ridge instead of a row of bumps that would pull a
+  // matched scan's points into the dips between them.
+  void smear_polyline(std::span<const geometry::Point2D> points_in_map, double sigma_m,
+                      double max_gap_m);
+
   // The field value at a map point by bicubic (Catmull-Rom) interpolation of the cell centres, and
   // its gradient in 1/m: what Gauss-Newton needs (docs/algorithms.md E5, the refiner).
   struct Sample {

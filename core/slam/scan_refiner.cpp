@@ -85,10 +85,11 @@ RefinedPose refine_scan_pose(const ProbabilityGrid& field,
       damped.diagonal() += lambda * (h.diagonal().array() + 1e-9).matrix();
       step = -damped.ldlt().solve(g);
       if (!step.allFinite()) break;
-      const Evaluation trial = evaluate(field, points_in_base, x + step, x0, options, false);
+      // Derivatives come along: accepted trials are the common case.
+      Evaluation trial = evaluate(field, points_in_base, x + step, x0, options, true);
       if (trial.cost < current.cost) {
         x += step;
-        current = evaluate(field, points_in_base, x, x0, options, true);
+        current = trial;
         lambda = std::max(lambda * 0.3, 1e-7);
         improved = true;
       } else {

@@ -26,8 +26,11 @@ struct MapBox {
 struct SubmapOptions {
   // E5: 0.05 m cells.
   double resolution_m = 0.05;
-  // The smear of each point (ProbabilityGrid::smear_points).
+  // The smear of each point (ProbabilityGrid::smear_polyline).
   double sigma_m = 0.07;
+  // Consecutive returns of a scan closer than this are one surface and smeared as a segment.
+  // 0: points only.
+  double max_gap_m = 0.25;
 };
 
 // docs/algorithms.md E5: a local map of several scans (the recent chain for scan matching, or an

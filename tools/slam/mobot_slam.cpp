@@ -92,6 +92,11 @@ bool set_option(mobot::slam::GraphSlamOptions& o, const std::string& assignment)
       {"optimize_every_n_nodes", nullptr, &o.optimize_every_n_nodes},
       {"optimizer_max_iterations", nullptr, &o.optimizer_max_iterations},
       {"loop_huber_delta", &o.loop_huber_delta, nullptr},
+      {"loop_covariance_scale", &o.loop_covariance_scale, nullptr},
+      {"match_covariance_scale", &o.match_covariance_scale, nullptr},
+      {"odom_translation_sigma_per_m", &o.odom_translation_sigma_per_m, nullptr},
+      {"odom_rotation_sigma_per_rad", &o.odom_rotation_sigma_per_rad, nullptr},
+      {"odom_rotation_sigma_per_m", &o.odom_rotation_sigma_per_m, nullptr},
   };
   for (const Field& field : fields) {
     if (name != field.name) continue;
