@@ -1,0 +1,265 @@
+#include "core/estimation/particle_filter/particle_filter.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/estimation/particle_filter/particle_clusters.h"
+#include "core/estimation/particle_filter/pose_moments.h"
+
+namespace mobot::estimation {
+namespace {
+
+bool non_negative(double value) { return value >= 0.0 && std::isfinite(value); }
+bool positive(double value) { return value > 0.0 && std::isfinite(value); }
+
+void validate(const ParticleFilterOptions& options) {
+  BeamLikelihood::validate(options.laser);
+  if (!positive(options.field.max_distance_m) || !non_negative(options.update_min_translation_m) ||
+      !non_negative(options.update_min_rotation_rad) || options.resample_interval < 1 ||
+      !(options.alpha_slow >= 0.0) || !(options.alpha_slow <= 1.0) ||
+      !(options.alpha_fast >= 0.0) || !(options.alpha_fast <= 1.0) ||
+      !(options.converged_min_cluster_weight > 0.0) ||
+      !(options.converged_min_cluster_weight <= 1.0) ||
+      !positive(options.converged_position_std_m) || !positive(options.converged_heading_std_rad) ||
+      !(options.kidnap_probability >= 0.0) || !(options.kidnap_probability <= 1.0) ||
+      options.converged_min_updates < 1) {
+    throw std::invalid_argument("particle filter: option out of range");
+  }
+}
+
+// The square root of a covariance for sampling (eigen-decomposed, so a rank-deficient one, a
+// zero heading variance for example, is fine). Nullopt when not symmetric PSD or not finite.
+std::optional<Eigen::Matrix3d> covariance_root(const Eigen::Matrix3d& covariance) {
+  if (!covariance.allFinite()) return std::nullopt;
+  const double scale = 1.0 + covariance.cwiseAbs().maxCoeff();
+  if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) {
+    return std::nullopt;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  if (eigen.info() != Eigen::Success || eigen.eigenvalues().minCoeff() < -1e-12 * scale) {
+    return std::nullopt;
+  }
+  return Eigen::Matrix3d(eigen.eigenvectors() *
+                         eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal());
+}
+
+}  // namespace
+
+ParticleFilterMap prepare_particle_filter_map(const mapping::OccupancyGrid& grid,
+                                              const LikelihoodFieldOptions& options) {
+  return {std::make_shared<const LikelihoodField>(grid, options),
+          std::make_shared<const FreeSpaceSampler>(grid)};
+}
+
+ParticleFilter::ParticleFilter(const ParticleFilterOptions& options)
+    : options_(options), motion_(options.motion), sampler_(options.kld), rng_(options.seed) {
+  validate(options_);
+  const double weight = 1.0 / static_cast<double>(options_.kld.min_particles);
+  particles_.assign(options_.kld.min_particles, WeightedPose{{}, weight});
+}
+
+void ParticleFilter::set_map(ParticleFilterMap map) {
+  if (!map.field) {
+    map_ = {};
+    laser_.reset();
+    return;
+  }
+  laser_ = std::make_unique<BeamLikelihood>(map.field, options_.laser);
+  map_ = std::move(map);
+  // A new map is new evidence for the same odometry.
+  force_update_ = true;
+}
+
+bool ParticleFilter::initialize(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance,
+                                const geometry::Pose2D& odom_pose) {
+  if (!geometry::is_finite(pose) || !geometry::is_finite(odom_pose)) return false;
+  const auto root = covariance_root(covariance);
+  if (!root) return false;
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const std::size_t count = options_.kld.max_particles;
+  const double weight = 1.0 / static_cast<double>(count);
+  particles_.clear();
+  particles_.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3d d = *root * Eigen::Vector3d(normal(rng_), normal(rng_), normal(rng_));
+    particles_.push_back(
+        {{pose.x + d.x(), pose.y + d.y(), geometry::wrap_angle(pose.theta + d.z())}, weight});
+  }
+  start_over(odom_pose);
+  estimate_ = {pose.x, pose.y, geometry::wrap_angle(pose.theta)};
+  return true;
+}
+
+bool ParticleFilter::initialize_global(const geometry::Pose2D& odom_pose) {
+  if (!has_map() || !map_.free_space || map_.free_space->empty() ||
+      !geometry::is_finite(odom_pose)) {
+    return false;
+  }
+  const std::size_t count = options_.kld.max_particles;
+  const double weight = 1.0 / static_cast<double>(count);
+  particles_.clear();
+  particles_.reserve(count);
+  for (std::size_t i = 0; i < count; ++i)
+    particles_.push_back({map_.free_space->sample(rng_), weight});
+  start_over(odom_pose);
+  return true;
+}
+
+void ParticleFilter::start_over(const geometry::Pose2D& odom_pose) {
+  odom_at_particles_ = odom_pose;
+  odom_at_estimate_ = odom_pose;
+  force_update_ = true;
+  updates_since_start_ = 0;
+  settled_updates_ = 0;
+  w_slow_ = w_fast_ = 0.0;
+  last_random_fraction_ = 0.0;
+  refresh_statistics();
+}
+
+FilterUpdate ParticleFilter::update(const geometry::Pose2D& odom_pose,
+                                    const msgs::LaserScan* scan) {
+  if (!geometry::is_finite(odom_pose)) return FilterUpdate::kRejected;
+  if (!odom_at_particles_) {
+    odom_at_particles_ = odom_pose;
+    odom_at_estimate_ = odom_pose;
+  }
+  if (!has_map()) {
+    if (!moved_enough(odom_pose)) return FilterUpdate::kWaiting;
+    // Dead reckoning: the cloud spreads with the motion noise, the estimate stays the odometry's.
+    move_particles(odom_pose);
+    covariance_ = weighted_pose_moments(particles_).covariance;
+    return FilterUpdate::kPredicted;
+  }
+  if (scan == nullptr) return FilterUpdate::kWaiting;
+  if (!force_update_ && !moved_enough(odom_pose)) return FilterUpdate::kWaiting;
+  const PreparedScan prepared = laser_->prepare(*scan);
+  if (prepared.empty()) return FilterUpdate::kNoUsableBeams;
+  const geometry::Pose2D predicted = pose_at(odom_pose);
+  move_particles(odom_pose);
+  weigh_and_resample(prepared);
+  refresh_statistics();
+  odom_at_estimate_ = odom_pose;
+  // After an initialisation the "prediction" is the initial guess: the first correction counts.
+  last_correction_m_ = std::hypot(estimate_.x - predicted.x, estimate_.y - predicted.y);
+  last_correction_rad_ = std::abs(geometry::wrap_angle(estimate_.theta - predicted.theta));
+  force_update_ = false;
+  ++updates_since_start_;
+  settled_updates_ = settled_now() ? settled_updates_ + 1 : 0;
+  ++sensor_updates_;
+  last_beam_count_ = prepared.endpoints_in_base.size();
+  return FilterUpdate::kUpdated;
+}
+
+bool ParticleFilter::moved_enough(const geometry::Pose2D& odom_pose) const {
+  const geometry::Pose2D& before = *odom_at_particles_;
+  return std::hypot(odom_pose.x - before.x, odom_pose.y - before.y) >=
+             options_.update_min_translation_m ||
+         std::abs(geometry::wrap_angle(odom_pose.theta - before.theta)) >=
+             options_.update_min_rotation_rad;
+}
+
+void ParticleFilter::move_particles(const geometry::Pose2D& odom_pose) {
+  const OdometryStep step = motion_.step(*odom_at_particles_, odom_pose);
+  for (WeightedPose& particle : particles_) {
+    particle.pose = motion_.sample(step, particle.pose, rng_);
+  }
+  odom_at_particles_ = odom_pose;
+}
+
+void ParticleFilter::weigh_and_resample(const PreparedScan& scan) {
+  const std::size_t beams = scan.endpoints_in_base.size();
+  log_likelihoods_.resize(particles_.size());
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    log_likelihoods_[i] = laser_->log_likelihood(scan, particles_[i].pose);
+    best = std::max(best, log_likelihoods_[i]);
+  }
+  // Relative to the best particle, so that a product of 60 beams does not underflow.
+  double total = 0.0;
+  double agreement = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    WeightedPose& particle = particles_[i];
+    particle.weight *= std::exp(log_likelihoods_[i] - best);
+    total += particle.weight;
+    agreement += particle.weight * laser_->beam_agreement(log_likelihoods_[i], beams);
+  }
+  if (total > 0.0 && std::isfinite(total)) {
+    for (WeightedPose& particle : particles_) particle.weight /= total;
+    // How well the filter's hypotheses explain this scan: the beams' agreement averaged over
+    // the posterior. AMCL averages the likelihood over the prior, which the injected particles
+    // themselves pull down; it then resets both averages after every injection, and recovers
+    // only as far as one injection reaches.
+    const double w_avg = agreement / total;
+    w_slow_ = w_slow_ == 0.0 ? w_avg : w_slow_ + options_.alpha_slow * (w_avg - w_slow_);
+    w_fast_ = w_fast_ == 0.0 ? w_avg : w_fast_ + options_.alpha_fast * (w_avg - w_fast_);
+  } else {
+    const double weight = 1.0 / static_cast<double>(particles_.size());
+    for (WeightedPose& particle : particles_) particle.weight = weight;
+  }
+  if (++weighings_ % static_cast<std::uint64_t>(options_.resample_interval) != 0) return;
+  const bool can_inject = map_.free_space && !map_.free_space->empty() && w_slow_ > 0.0;
+  last_random_fraction_ = can_inject ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  RandomPoseFn random_pose;
+  if (can_inject) {
+    random_pose = [free_space = map_.free_space.get()](std::mt19937_64& rng) {
+      return free_space->sample(rng);
+    };
+  }
+  // Augmented MCL decides how many particles explore; their importance weight keeps the belief
+  // honest: the belief gives a pose away from the cloud the kidnap prior, the proposal drew it
+  // with the random fraction.
+  const double r = last_random_fraction_;
+  const double rho = options_.kidnap_probability;
+  const double random_weight = r > 0.0 && rho < r ? (rho / r) * (1.0 - r) / (1.0 - rho) : 1.0;
+  particles_ =
+      sampler_.resample(particles_, last_random_fraction_, random_pose, rng_, random_weight);
+}
+
+void ParticleFilter::refresh_statistics() {
+  const std::vector<ParticleCluster> clusters = cluster_particles(particles_, options_.kld.bins);
+  if (clusters.empty()) return;
+  double total = 0.0;
+  for (const ParticleCluster& cluster : clusters) total += cluster.moments.weight;
+  const ParticleCluster& heaviest = clusters.front();
+  cluster_count_ = clusters.size();
+  heaviest_cluster_weight_ = total > 0.0 ? heaviest.moments.weight / total : 0.0;
+  heaviest_covariance_ = heaviest.moments.covariance;
+  covariance_ = heaviest_cluster_weight_ >= options_.converged_min_cluster_weight
+                    ? heaviest.moments.covariance
+                    : weighted_pose_moments(particles_).covariance;
+  estimate_ = heaviest.moments.mean;
+}
+
+bool ParticleFilter::converged() const {
+  return has_map() && updates_since_start_ > 0 &&
+         settled_updates_ >= static_cast<std::uint64_t>(options_.converged_min_updates);
+}
+
+bool ParticleFilter::settled_now() const {
+  if (!has_map() || updates_since_start_ == 0 ||
+      heaviest_cluster_weight_ < options_.converged_min_cluster_weight) {
+    return false;
+  }
+  const Eigen::Matrix2d position = heaviest_covariance_.topLeftCorner<2, 2>();
+  if (!heaviest_covariance_.allFinite()) return false;
+  const double largest_var_m2 =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(position, Eigen::EigenvaluesOnly)
+          .eigenvalues()
+          .maxCoeff();
+  const double position_std = options_.converged_position_std_m;
+  const double heading_std = options_.converged_heading_std_rad;
+  return largest_var_m2 < position_std * position_std &&
+         heaviest_covariance_(2, 2) < heading_std * heading_std &&
+         last_correction_m_ < position_std && last_correction_rad_ < heading_std;
+}
+
+geometry::Pose2D ParticleFilter::pose_at(const geometry::Pose2D& odom_pose) const {
+  if (!geometry::is_finite(odom_pose)) return estimate_;
+  return geometry::compose(estimate_,
+                           geometry::compose(geometry::inverse(odom_at_estimate_), odom_pose));
+}
+
+}  // namespace mobot::estimation

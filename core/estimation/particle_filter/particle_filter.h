@@ -1,0 +1,171 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "core/estimation/particle_filter/beam_likelihood.h"
+#include "core/estimation/particle_filter/free_space_sampler.h"
+#include "core/estimation/particle_filter/kld_sampler.h"
+#include "core/estimation/particle_filter/likelihood_field.h"
+#include "core/estimation/particle_filter/odometry_motion_model.h"
+#include "core/estimation/weighted_pose.h"
+#include "core/geometry/pose2d.h"
+#include "core/mapping/occupancy_grid.h"
+#include "core/msgs/laser_scan.h"
+
+namespace mobot::estimation {
+
+struct ParticleFilterOptions {
+  OdometryMotionModelOptions motion;
+  LikelihoodFieldOptions field;
+  BeamLikelihoodOptions laser;
+  KldSamplerOptions kld;
+  // The filter moves, weighs and resamples on the first scan after the odometry has moved this
+  // far since the last update (the Dashgo thesis' AMCL update_min_d / update_min_a). Updating a
+  // standing robot would resample away the spread without new evidence.
+  double update_min_translation_m = 0.25;
+  double update_min_rotation_rad = 0.2;
+  // Resample on every n-th update only (AMCL's resample_interval); in between the weights of
+  // successive scans multiply.
+  int resample_interval = 1;
+  // Augmented MCL (Probabilistic Robotics Table 8.3, AMCL's recovery_alpha_slow / _fast): short-
+  // and long-term averages of the scan likelihood; when the short one drops below the long one,
+  // a fraction 1 - w_fast / w_slow of the resampled particles is drawn from the free space.
+  double alpha_slow = 0.001;
+  double alpha_fast = 0.1;
+  // The prior probability, per update, that the robot was carried off. The random particles are
+  // drawn at the rate above but weighted by this prior over that rate (importance sampling from
+  // a mixture proposal), so they explore without outvoting the cloud unless the scan fits them
+  // overwhelmingly better (a kidnap) rather than a little better (an ambiguous corridor).
+  double kidnap_probability = 1e-4;
+  // converged(): the heaviest cluster carries at least this share of the weight, its position
+  // (largest axis) and heading standard deviations are below these, and the last scan moved the
+  // estimate away from where the odometry carried it by less than them (a tight cloud that still
+  // jumps is not settled: a sharp likelihood makes a cloud tight in one scan, right or wrong).
+  double converged_min_cluster_weight = 0.9;
+  double converged_position_std_m = 0.15;
+  double converged_heading_std_rad = 0.1;
+  // ... at this many consecutive scan updates: one scan can make a global cloud tight in the
+  // wrong place.
+  int converged_min_updates = 10;
+  std::uint64_t seed = 1;
+};
+
+// The map as the filter reads it, prepared once per map (the distance transform is the costly
+// part). A null field: no map.
+struct ParticleFilterMap {
+  std::shared_ptr<const LikelihoodField> field;
+  std::shared_ptr<const FreeSpaceSampler> free_space;
+};
+ParticleFilterMap prepare_particle_filter_map(const mapping::OccupancyGrid& grid,
+                                              const LikelihoodFieldOptions& options = {});
+
+// What one call of ParticleFilter::update did.
+enum class FilterUpdate {
+  kUpdated,        // moved, weighed with the scan, resampled
+  kPredicted,      // no map: the particles moved with the odometry only (dead reckoning)
+  kWaiting,        // not moved enough, or no scan yet: nothing changed
+  kNoUsableBeams,  // the scan had no beam the model uses: nothing changed
+  kRejected,       // non-finite odometry: nothing changed
+};
+
+// docs/algorithms.md E4: Monte Carlo localization as AMCL does it: the odometry motion model,
+// the likelihood-field laser model, KLD-adaptive low-variance resampling and augmented-MCL
+// recovery. Odometry comes in as odom-frame poses; the filter samples the motion between the
+// pose at its last update and the current one. Deterministic for options.seed.
+class ParticleFilter {
+ public:
+  // Throws std::invalid_argument for an option out of range. Starts with min_particles at the
+  // origin and no map.
+  explicit ParticleFilter(const ParticleFilterOptions& options = {});
+
+  const ParticleFilterOptions& options() const { return options_; }
+
+  // A null field removes the map: the filter then only predicts.
+  void set_map(ParticleFilterMap map);
+  bool has_map() const { return laser_ != nullptr; }
+
+  // max_particles drawn from N(pose, covariance), taken at odometry `odom_pose`; the next scan
+  // updates the filter whatever the motion. False and nothing changed for a non-finite pose or a
+  // covariance that is not symmetric positive semi-definite.
+  bool initialize(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance,
+                  const geometry::Pose2D& odom_pose);
+  // Global localization: max_particles uniform over the map's free space. False and nothing
+  // changed without a map or without free cells.
+  bool initialize_global(const geometry::Pose2D& odom_pose);
+
+  // One step with the odometry pose now and the scan taken now (or null). See FilterUpdate.
+  FilterUpdate update(const geometry::Pose2D& odom_pose, const msgs::LaserScan* scan);
+
+  // The pose of the estimate at the last update moved by the odometry since: what a caller
+  // reports between updates. Non-finite odometry gives the last estimate.
+  geometry::Pose2D pose_at(const geometry::Pose2D& odom_pose) const;
+  // The mean of the heaviest cluster at the last update (AMCL's published pose).
+  const geometry::Pose2D& estimate() const { return estimate_; }
+  // The heaviest cluster's covariance when it carries converged_min_cluster_weight of the
+  // weight, else the whole cloud's: one hypothesis reports its own spread, several their union.
+  const Eigen::Matrix3d& covariance() const { return covariance_; }
+  // A map, at least one scan update since the last initialisation, and the rule of the options.
+  bool converged() const;
+
+  std::span<const WeightedPose> particles() const { return particles_; }
+  std::size_t cluster_count() const { return cluster_count_; }
+  double heaviest_cluster_weight() const { return heaviest_cluster_weight_; }
+  // Scan updates since construction, and the beams the last one used.
+  std::uint64_t sensor_updates() const { return sensor_updates_; }
+  std::size_t last_beam_count() const { return last_beam_count_; }
+  // The augmented-MCL state: the averages and the share of random particles in the last draw.
+  double w_slow() const { return w_slow_; }
+  double w_fast() const { return w_fast_; }
+  double last_random_fraction() const { return last_random_fraction_; }
+  // How far the last scan moved the estimate from the odometry's prediction.
+  double last_correction_m() const { return last_correction_m_; }
+  double last_correction_rad() const { return last_correction_rad_; }
+
+ private:
+  bool moved_enough(const geometry::Pose2D& odom_pose) const;
+  // The convergence rule at the last update, before the count of consecutive updates.
+  bool settled_now() const;
+  void move_particles(const geometry::Pose2D& odom_pose);
+  void weigh_and_resample(const PreparedScan& scan);
+  // Clusters, estimate, covariance from the current particles.
+  void refresh_statistics();
+  void start_over(const geometry::Pose2D& odom_pose);
+
+  ParticleFilterOptions options_;
+  OdometryMotionModel motion_;
+  KldSampler sampler_;
+  ParticleFilterMap map_;
+  std::unique_ptr<BeamLikelihood> laser_;
+  std::mt19937_64 rng_;
+
+  std::vector<WeightedPose> particles_;
+  std::vector<double> log_likelihoods_;  // scratch of weigh_and_resample
+  // The odometry pose the particles were last moved to; unset until the first call anchors it.
+  std::optional<geometry::Pose2D> odom_at_particles_;
+  geometry::Pose2D estimate_;
+  geometry::Pose2D odom_at_estimate_;
+  Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
+  bool force_update_ = true;
+  std::uint64_t updates_since_start_ = 0;
+  std::uint64_t settled_updates_ = 0;
+  std::uint64_t weighings_ = 0;
+  std::uint64_t sensor_updates_ = 0;
+  std::size_t last_beam_count_ = 0;
+  std::size_t cluster_count_ = 1;
+  double heaviest_cluster_weight_ = 1.0;
+  Eigen::Matrix3d heaviest_covariance_ = Eigen::Matrix3d::Zero();
+  double w_slow_ = 0.0;
+  double w_fast_ = 0.0;
+  double last_random_fraction_ = 0.0;
+  double last_correction_m_ = 0.0;
+  double last_correction_rad_ = 0.0;
+};
+
+}  // namespace mobot::estimation

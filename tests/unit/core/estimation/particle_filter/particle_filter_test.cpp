@@ -1,0 +1,357 @@
+#include "core/estimation/particle_filter/particle_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "tests/unit/core/estimation/particle_filter/pf_world.h"
+
+namespace mobot::estimation {
+namespace {
+
+using geometry::Pose2D;
+using pf_world::position_error;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+Eigen::Matrix3d diag(double a, double b, double c) { return Eigen::Vector3d(a, b, c).asDiagonal(); }
+
+double heading_error(const Pose2D& a, const Pose2D& b) {
+  return std::abs(geometry::wrap_angle(a.theta - b.theta));
+}
+
+// The robot driving the room's loop: odometry with noise every tick (50 Hz), a scan every fifth.
+class Drive {
+ public:
+  explicit Drive(std::uint64_t seed = 5)
+      : odometry_(seed), scan_noise_(static_cast<unsigned>(seed)) {}
+
+  const pf_world::Room& room() const { return room_; }
+  const ParticleFilterMap& map() const { return map_; }
+  const Pose2D& truth() const { return path_[at_]; }
+  const Pose2D& odom() const { return odom_; }
+  bool finished() const { return at_ + 1 >= path_.size(); }
+
+  // The robot is carried to the first point of the path at least `distance_m` from here; the
+  // odometry does not notice.
+  void kidnap(double distance_m) {
+    const Pose2D from = truth();
+    while (!finished() && position_error(path_[at_], from) < distance_m) ++at_;
+  }
+
+  FilterUpdate tick(ParticleFilter& filter) {
+    odom_ = odometry_.step(odom_, path_[at_], path_[at_ + 1]);
+    ++at_;
+    if (++ticks_ % 5 != 0) return filter.update(odom_, nullptr);
+    const msgs::LaserScan scan = pf_world::room_scan(room_, truth(), &scan_noise_);
+    return filter.update(odom_, &scan);
+  }
+
+  // Ticks until the filter has updated `updates` times (or the path ends).
+  void run_updates(ParticleFilter& filter, int updates) {
+    while (updates > 0 && !finished()) updates -= tick(filter) == FilterUpdate::kUpdated;
+  }
+
+ private:
+  pf_world::Room room_ = pf_world::asymmetric_room();
+  ParticleFilterMap map_ = prepare_particle_filter_map(pf_world::room_grid(room_));
+  std::vector<Pose2D> path_ = pf_world::loop_path(4);
+  pf_world::NoisyOdometry odometry_;
+  std::mt19937 scan_noise_;
+  Pose2D odom_{-3.0, 7.0, 2.0};  // the odom frame is not the map frame
+  std::size_t at_ = 0;
+  int ticks_ = 0;
+};
+
+TEST(ParticleFilter, TracksFromAnOffsetStartAndConverges) {
+  Drive drive;
+  ParticleFilter filter;
+  filter.set_map(drive.map());
+  const Pose2D start{drive.truth().x + 0.3, drive.truth().y, drive.truth().theta + 10 * kDeg};
+  ASSERT_TRUE(filter.initialize(start, diag(0.09, 0.09, std::pow(10 * kDeg, 2)), drive.odom()));
+  EXPECT_FALSE(filter.converged());  // no scan yet
+  drive.run_updates(filter, 25);
+  ASSERT_FALSE(drive.finished());
+  EXPECT_TRUE(filter.converged());
+  EXPECT_LT(position_error(filter.pose_at(drive.odom()), drive.truth()), 0.08);
+  EXPECT_LT(heading_error(filter.pose_at(drive.odom()), drive.truth()), 3 * kDeg);
+  EXPECT_EQ(filter.particles().size(), filter.options().kld.min_particles);
+  // It stays on track for the rest of the loop.
+  double worst = 0.0;
+  for (int i = 0; i < 40 && !drive.finished(); ++i) {
+    drive.run_updates(filter, 1);
+    worst = std::max(worst, position_error(filter.estimate(), drive.truth()));
+  }
+  EXPECT_LT(worst, 0.1);
+}
+
+TEST(ParticleFilter, BetweenUpdatesTheReportedPoseFollowsTheOdometry) {
+  Drive drive;
+  ParticleFilter filter;
+  filter.set_map(drive.map());
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(1e-4, 1e-4, 1e-4), drive.odom()));
+  drive.run_updates(filter, 3);
+  const Pose2D odom_before = drive.odom();
+  const Pose2D before = filter.pose_at(odom_before);
+  int waiting = 0;
+  while (drive.tick(filter) != FilterUpdate::kUpdated) {
+    const Pose2D expected =
+        geometry::compose(before, geometry::compose(geometry::inverse(odom_before), drive.odom()));
+    const Pose2D reported = filter.pose_at(drive.odom());
+    ASSERT_NEAR(reported.x, expected.x, 1e-9);
+    ASSERT_NEAR(reported.y, expected.y, 1e-9);
+    ASSERT_NEAR(reported.theta, expected.theta, 1e-9);
+    ++waiting;
+  }
+  // 0.25 m at 2 cm per tick, or a 0.2 rad turn at 0.04 rad per tick.
+  EXPECT_GE(waiting, 4);
+}
+
+TEST(ParticleFilter, GlobalLocalizationConvergesToTheTruth) {
+  Drive drive(8);
+  ParticleFilter filter;
+  filter.set_map(drive.map());
+  ASSERT_TRUE(filter.initialize_global(drive.odom()));
+  EXPECT_EQ(filter.particles().size(), filter.options().kld.max_particles);
+  EXPECT_FALSE(filter.converged());
+  int updates = 0;
+  while (!filter.converged() && updates < 80 && !drive.finished()) {
+    drive.run_updates(filter, 1);
+    ++updates;
+  }
+  ASSERT_TRUE(filter.converged()) << "after " << updates << " updates";
+  drive.run_updates(filter, 5);
+  EXPECT_LT(position_error(filter.estimate(), drive.truth()), 0.15);
+  EXPECT_LT(heading_error(filter.estimate(), drive.truth()), 5 * kDeg);
+}
+
+TEST(ParticleFilter, AKidnappedRobotIsFoundAgainByTheRandomParticles) {
+  Drive drive(11);
+  ParticleFilter filter;
+  filter.set_map(drive.map());
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(0.01, 0.01, 0.01), drive.odom()));
+  drive.run_updates(filter, 10);
+  ASSERT_TRUE(filter.converged());
+  drive.kidnap(3.0);
+  drive.run_updates(filter, 2);
+  EXPECT_GT(position_error(filter.estimate(), drive.truth()), 1.0);  // it is lost
+  int updates = 0;
+  while (position_error(filter.estimate(), drive.truth()) > 0.2 && updates < 60 &&
+         !drive.finished()) {
+    drive.run_updates(filter, 1);
+    ++updates;
+  }
+  EXPECT_LT(position_error(filter.estimate(), drive.truth()), 0.2) << "after " << updates;
+  EXPECT_LT(updates, 60);
+  // Once found, the random particles stop and the cloud settles again.
+  for (int i = 0; i < 40 && !filter.converged(); ++i) drive.run_updates(filter, 1);
+  EXPECT_TRUE(filter.converged());
+  EXPECT_LT(position_error(filter.estimate(), drive.truth()), 0.15);
+}
+
+TEST(ParticleFilter, ConvergenceTakesConsecutiveSettledUpdates) {
+  Drive drive;
+  ParticleFilterOptions options;
+  options.converged_min_updates = 6;
+  ParticleFilter filter(options);
+  filter.set_map(drive.map());
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(1e-4, 1e-4, 1e-4), drive.odom()));
+  for (int i = 1; i <= 5; ++i) {
+    drive.run_updates(filter, 1);
+    EXPECT_FALSE(filter.converged()) << i;
+  }
+  drive.run_updates(filter, 1);
+  EXPECT_TRUE(filter.converged());
+  EXPECT_LT(filter.last_correction_m(), 0.15);
+  // A new initialisation starts the count again.
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(1e-4, 1e-4, 1e-4), drive.odom()));
+  EXPECT_FALSE(filter.converged());
+}
+
+TEST(ParticleFilter, ACloudThatJumpsHasNotConverged) {
+  Drive drive;
+  ParticleFilterOptions options;
+  options.converged_min_updates = 1;
+  ParticleFilter filter(options);
+  filter.set_map(drive.map());
+  // Sure of a pose 0.4 m off: the first scan pulls the tight cloud over, which is no settling.
+  const Pose2D wrong{drive.truth().x + 0.4, drive.truth().y, drive.truth().theta};
+  ASSERT_TRUE(filter.initialize(wrong, diag(0.04, 0.04, 0.001), drive.odom()));
+  drive.run_updates(filter, 1);
+  EXPECT_GT(filter.last_correction_m(), 0.15);
+  EXPECT_FALSE(filter.converged());
+}
+
+TEST(ParticleFilter, StandingStillDoesNotUpdateAfterTheFirstScan) {
+  Drive drive;
+  ParticleFilter filter;
+  filter.set_map(drive.map());
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(0.01, 0.01, 0.01), drive.odom()));
+  const msgs::LaserScan scan = pf_world::room_scan(drive.room(), drive.truth(), nullptr);
+  EXPECT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kUpdated);  // forced after init
+  EXPECT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kWaiting);
+  EXPECT_EQ(filter.update(drive.odom(), nullptr), FilterUpdate::kWaiting);
+  Pose2D nudged = drive.odom();
+  nudged.theta += 0.19;
+  EXPECT_EQ(filter.update(nudged, &scan), FilterUpdate::kWaiting);
+  nudged.theta += 0.02;
+  EXPECT_EQ(filter.update(nudged, &scan), FilterUpdate::kUpdated);
+  EXPECT_EQ(filter.sensor_updates(), 2U);
+}
+
+void expect_same_state(const ParticleFilter& a, const ParticleFilter& b) {
+  ASSERT_EQ(a.particles().size(), b.particles().size());
+  for (std::size_t i = 0; i < a.particles().size(); ++i) {
+    ASSERT_EQ(a.particles()[i].pose, b.particles()[i].pose) << i;
+    ASSERT_EQ(a.particles()[i].weight, b.particles()[i].weight) << i;
+  }
+  EXPECT_EQ(a.estimate(), b.estimate());
+  EXPECT_EQ(a.covariance(), b.covariance());
+  EXPECT_EQ(a.converged(), b.converged());
+  EXPECT_EQ(a.w_slow(), b.w_slow());
+  EXPECT_EQ(a.w_fast(), b.w_fast());
+  EXPECT_EQ(a.sensor_updates(), b.sensor_updates());
+}
+
+TEST(ParticleFilter, BadInputsChangeNothing) {
+  Drive drive;
+  ParticleFilter filter;
+  ParticleFilter twin;
+  for (ParticleFilter* f : {&filter, &twin}) {
+    f->set_map(drive.map());
+    ASSERT_TRUE(f->initialize(drive.truth(), diag(0.01, 0.01, 0.01), drive.odom()));
+  }
+  Pose2D moved = drive.odom();
+  moved.x += 0.5;
+  // Non-finite odometry.
+  const msgs::LaserScan scan = pf_world::room_scan(drive.room(), drive.truth(), nullptr);
+  EXPECT_EQ(filter.update({kNan, 0.0, 0.0}, &scan), FilterUpdate::kRejected);
+  EXPECT_EQ(filter.update({0.0, 0.0, std::numeric_limits<double>::infinity()}, &scan),
+            FilterUpdate::kRejected);
+  // Scans with no beam to use.
+  msgs::LaserScan empty = scan;
+  empty.ranges_m.clear();
+  EXPECT_EQ(filter.update(moved, &empty), FilterUpdate::kNoUsableBeams);
+  msgs::LaserScan blind = scan;
+  blind.ranges_m.assign(blind.ranges_m.size(), std::numeric_limits<float>::quiet_NaN());
+  EXPECT_EQ(filter.update(moved, &blind), FilterUpdate::kNoUsableBeams);
+  // Refused initialisations.
+  EXPECT_FALSE(filter.initialize({kNan, 0.0, 0.0}, diag(0.01, 0.01, 0.01), drive.odom()));
+  EXPECT_FALSE(filter.initialize(drive.truth(), diag(0.01, -0.01, 0.01), drive.odom()));
+  Eigen::Matrix3d asymmetric = diag(0.01, 0.01, 0.01);
+  asymmetric(0, 1) = 0.005;
+  EXPECT_FALSE(filter.initialize(drive.truth(), asymmetric, drive.odom()));
+  EXPECT_FALSE(filter.initialize(drive.truth(), diag(kNan, 0.01, 0.01), drive.odom()));
+  EXPECT_FALSE(filter.initialize(drive.truth(), diag(0.01, 0.01, 0.01), {0.0, kNan, 0.0}));
+  EXPECT_FALSE(filter.initialize_global({kNan, 0.0, 0.0}));
+  expect_same_state(filter, twin);
+  // The same good input after all that gives the same result as without it.
+  EXPECT_EQ(filter.update(moved, &scan), FilterUpdate::kUpdated);
+  EXPECT_EQ(twin.update(moved, &scan), FilterUpdate::kUpdated);
+  expect_same_state(filter, twin);
+}
+
+TEST(ParticleFilter, GlobalInitialisationNeedsAMapWithFreeSpace) {
+  ParticleFilter filter;
+  const ParticleFilter twin;
+  EXPECT_FALSE(filter.initialize_global({}));
+  // A map of walls and unknown space only: the laser model works, global init cannot.
+  mapping::OccupancyGrid walls(40, 40, 0.05, {}, mapping::OccupancyGrid::kUnknown);
+  for (int i = 0; i < 40; ++i) walls.set({i, 20}, mapping::OccupancyGrid::kOccupied);
+  filter.set_map(prepare_particle_filter_map(walls));
+  EXPECT_TRUE(filter.has_map());
+  EXPECT_FALSE(filter.initialize_global({}));
+  expect_same_state(filter, twin);
+}
+
+TEST(ParticleFilter, WithoutAMapItDeadReckonsWithAGrowingCovariance) {
+  Drive drive;
+  ParticleFilter filter;
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(1e-4, 1e-4, 1e-4), drive.odom()));
+  const Pose2D start = drive.truth();
+  const Pose2D odom_start = drive.odom();
+  double last_variance = filter.covariance().trace();
+  int predictions = 0;
+  for (int i = 0; i < 300; ++i) {
+    const FilterUpdate outcome = drive.tick(filter);
+    ASSERT_NE(outcome, FilterUpdate::kUpdated);
+    if (outcome == FilterUpdate::kPredicted) {
+      ++predictions;
+      EXPECT_GT(filter.covariance().trace(), last_variance);
+      last_variance = filter.covariance().trace();
+    }
+    // Exactly the odometry, carried from the initial pose.
+    const Pose2D expected =
+        geometry::compose(start, geometry::compose(geometry::inverse(odom_start), drive.odom()));
+    ASSERT_NEAR(filter.pose_at(drive.odom()).x, expected.x, 1e-9);
+    ASSERT_NEAR(filter.pose_at(drive.odom()).y, expected.y, 1e-9);
+    ASSERT_FALSE(filter.converged());
+  }
+  EXPECT_GT(predictions, 10);
+  EXPECT_EQ(filter.sensor_updates(), 0U);
+  // A map set later turns the prediction into localization.
+  filter.set_map(drive.map());
+  drive.run_updates(filter, 20);
+  EXPECT_LT(position_error(filter.estimate(), drive.truth()), 0.15);
+}
+
+TEST(ParticleFilter, IsDeterministicForASeed) {
+  Drive a;
+  Drive b;
+  ParticleFilter first;
+  ParticleFilter second;
+  first.set_map(a.map());
+  second.set_map(b.map());
+  ASSERT_TRUE(first.initialize_global(a.odom()));
+  ASSERT_TRUE(second.initialize_global(b.odom()));
+  a.run_updates(first, 5);
+  b.run_updates(second, 5);
+  expect_same_state(first, second);
+  // Another seed is another run.
+  ParticleFilterOptions options;
+  options.seed = 2;
+  ParticleFilter third(options);
+  third.set_map(a.map());
+  ASSERT_TRUE(third.initialize_global(a.odom()));
+  EXPECT_NE(third.particles()[0].pose, first.particles()[0].pose);
+}
+
+TEST(ParticleFilter, RefusesBadOptions) {
+  ParticleFilterOptions options;
+  options.update_min_translation_m = -1.0;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.alpha_fast = 1.5;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.converged_min_cluster_weight = 0.0;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.laser.sigma_hit_m = kNan;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.kld.min_particles = 0;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.kidnap_probability = 1.5;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.converged_min_updates = 0;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.resample_interval = 0;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.laser.product_exponent = 0.0;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+  options = {};
+  options.motion.alpha3 = -0.2;
+  EXPECT_THROW(ParticleFilter{options}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mobot::estimation
