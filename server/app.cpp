@@ -59,6 +59,7 @@ drivers::BackendOptions backend_options(const Config& config) {
   options.laser_rate_hz = config.robot.laser_rate_hz;
   options.sonar_rate_hz = config.robot.sonar_rate_hz;
   options.compass_rate_hz = config.robot.compass_rate_hz;
+  options.odometry_errors = config.sim.odometry;
   return options;
 }
 

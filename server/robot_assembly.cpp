@@ -3,15 +3,18 @@
 #include <algorithm>
 
 #include "server/plugins/costmap_options.h"
+#include "server/plugins/safety_options.h"
 #include "server/plugins/slam_options.h"
 #include "server/stages/advance_stage.h"
 #include "server/stages/costmap_stage.h"
+#include "server/stages/ir_safety_stage.h"
 #include "server/stages/mapping_stage.h"
 #include "server/stages/perceive_stage.h"
 #include "server/stages/publish_stage.h"
 #include "server/stages/read_drivers_stage.h"
 #include "server/stages/sim_truth_stage.h"
 #include "server/stages/smooth_stage.h"
+#include "server/stages/sonar_safety_stage.h"
 
 namespace mobot::server {
 namespace {
@@ -102,6 +105,12 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   }
   navigate_ = &pipeline.add(
       std::make_unique<NavigateStage>(*planning_, plugins_.trackers, navigator_options(config)));
+  if (auto ir = read_ir_safety_options(config.document); ir && drivers.ir) {
+    pipeline.add(std::make_unique<IrSafetyStage>(*ir));
+  }
+  if (auto sonar = read_sonar_emergency_options(config.document); sonar && drivers.sonar) {
+    pipeline.add(std::make_unique<SonarSafetyStage>(*sonar));
+  }
   safety_ = &pipeline.add(std::make_unique<SafetyStage>(
       watched_sensors(drivers, config.robot),
       [this](const std::string& reason, TickContext& context) {
