@@ -69,15 +69,35 @@ std::vector<double> samples(double lo, double hi, int count) {
   return out;
 }
 
-// The pose after moving at constant (v, w) for t seconds from `start` (exact arc).
-geometry::Pose2D advance(const geometry::Pose2D& start, double v, double w, double t) {
-  if (std::abs(w) < 1e-9) {
-    return {start.x + v * t * std::cos(start.theta), start.y + v * t * std::sin(start.theta),
-            start.theta};
+// Calls visit(pose) for the poses after 1..steps steps of dt at constant (v, w) from `start`, on
+// the exact arc, until visit returns false. The heading's sine and cosine advance by a rotation
+// per step (no trigonometry inside the loop).
+template <class Visit>
+void roll_out(const geometry::Pose2D& start, double v, double w, int steps, double dt,
+              Visit&& visit) {
+  const double turn = w * dt;
+  const double cos_turn = std::cos(turn);
+  const double sin_turn = std::sin(turn);
+  double c = std::cos(start.theta);
+  double s = std::sin(start.theta);
+  geometry::Pose2D pose = start;
+  const bool straight = std::abs(w) < 1e-9;
+  const double radius = straight ? 0.0 : v / w;
+  for (int i = 1; i <= steps; ++i) {
+    const double next_c = c * cos_turn - s * sin_turn;
+    const double next_s = s * cos_turn + c * sin_turn;
+    if (straight) {
+      pose.x += v * dt * c;
+      pose.y += v * dt * s;
+    } else {
+      pose.x += radius * (next_s - s);
+      pose.y -= radius * (next_c - c);
+    }
+    pose.theta = start.theta + turn * i;
+    c = next_c;
+    s = next_s;
+    if (!visit(pose)) return;
   }
-  const double theta = start.theta + w * t;
-  return {start.x + v / w * (std::sin(theta) - std::sin(start.theta)),
-          start.y - v / w * (std::cos(theta) - std::cos(start.theta)), theta};
 }
 
 }  // namespace
@@ -197,28 +217,35 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   // The path from the projection to the local goal, sampled at the costmap's resolution, split
   // where it crosses lethal cells.
   const double sample_m = costs.has_grid() ? costmap_->resolution_m() : o.local_goal_distance_m;
-  std::vector<geometry::Point2D> piece;
-  for (double s = from_s;; s = std::min(s + sample_m, goal_s)) {
-    const geometry::Point2D p = path_.point_at(s);
-    if (costs.cost(p.x, p.y) < PlanningGrid::kLethal) {
-      piece.push_back(p);
-    } else if (!piece.empty()) {
-      scoring.free_path.push_back(std::move(piece));
-      piece.clear();
-    }
-    if (s >= goal_s) break;
-  }
-  if (!piece.empty()) scoring.free_path.push_back(std::move(piece));
-  if (!costs.has_grid()) {
-    // No costmap: the exact polyline.
-    std::vector<geometry::Point2D> exact{path_.point_at(from_s)};
+  // The polyline of the path between two arc lengths: its ends and the path's own vertices
+  // between them (a straight stretch stays two points however finely it was sampled).
+  const auto stretch = [this](double begin_s, double end_s) {
+    std::vector<geometry::Point2D> out{path_.point_at(begin_s)};
     for (std::size_t i = 0; i < path_.size(); ++i) {
-      if (path_.s_at_vertex(i) > from_s && path_.s_at_vertex(i) < goal_s) {
-        exact.push_back(path_.points()[i]);
+      if (path_.s_at_vertex(i) > begin_s && path_.s_at_vertex(i) < end_s) {
+        out.push_back(path_.points()[i]);
       }
     }
-    exact.push_back(path_.point_at(goal_s));
-    scoring.free_path = {exact};
+    if (end_s > begin_s) out.push_back(path_.point_at(end_s));
+    return out;
+  };
+  if (!costs.has_grid()) {
+    scoring.free_path = {stretch(from_s, goal_s)};
+  } else {
+    std::optional<double> run_start;
+    double run_end = from_s;
+    for (double s = from_s;; s = std::min(s + sample_m, goal_s)) {
+      const geometry::Point2D p = path_.point_at(s);
+      if (costs.cost(p.x, p.y) < PlanningGrid::kLethal) {
+        if (!run_start) run_start = s;
+        run_end = s;
+      } else if (run_start) {
+        scoring.free_path.push_back(stretch(*run_start, run_end));
+        run_start.reset();
+      }
+      if (s >= goal_s) break;
+    }
+    if (run_start) scoring.free_path.push_back(stretch(*run_start, run_end));
   }
   // The local goal must be a free cell: walk back along the path to the last free point.
   double local_goal_s = goal_s;
@@ -240,6 +267,7 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   const DynamicWindow window = reachable_window(o.limits, velocity);
   double best_score = std::numeric_limits<double>::infinity();
   msgs::Twist best;
+  int best_steps = 0;
   bool found = false;
   if (PlanningGrid::is_traversable_cost(here)) {
     for (const double v : samples(window.min_linear_mps, window.max_linear_mps, o.linear_samples)) {
@@ -253,16 +281,14 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
         const double dt = o.sim_time_s / steps;
         std::uint8_t max_cost = here;
         bool admissible = true;
-        trajectory_.clear();
-        trajectory_.push_back(pose);
         geometry::Pose2D end = pose;
-        for (int i = 1; i <= steps && admissible; ++i) {
-          end = advance(pose, v, w, i * dt);
-          const std::uint8_t cost = costs.cost(end.x, end.y);
+        roll_out(pose, v, w, steps, dt, [&](const geometry::Pose2D& at) {
+          const std::uint8_t cost = costs.cost(at.x, at.y);
           admissible = PlanningGrid::is_traversable_cost(cost);
           max_cost = std::max(max_cost, cost);
-          trajectory_.push_back(end);
-        }
+          end = at;
+          return admissible;
+        });
         if (!admissible) continue;
         ++admissible_;
         const double score = scoring.score(o, end, max_cost);
@@ -272,16 +298,19 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
           found = true;
           best_score = score;
           best = {v, w};
-          chosen_ = trajectory_;
+          best_steps = steps;
         }
       }
     }
   }
   blocked_ = !found || best_score > stay_score - o.min_improvement;
-  if (blocked_) {
-    chosen_.clear();
-    return {};
-  }
+  if (blocked_) return {};
+  chosen_.push_back(pose);
+  roll_out(pose, best.linear_mps, best.angular_radps, best_steps, o.sim_time_s / best_steps,
+           [this](const geometry::Pose2D& at) {
+             chosen_.push_back(at);
+             return true;
+           });
   return best;
 }
 

@@ -97,7 +97,6 @@ class DwaTracker : public PathTracker {
   TrackerStatus status_;
   bool blocked_ = false;
   std::vector<geometry::Pose2D> chosen_;
-  std::vector<geometry::Pose2D> trajectory_;  // scratch
   int scored_ = 0;
   int admissible_ = 0;
 };

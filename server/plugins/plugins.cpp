@@ -21,6 +21,8 @@ Plugins builtin_plugins() {
   plugins.planners.add("astar", astar_plugin);
   plugins.planners.add("voronoi", voronoi_plugin);
   plugins.trackers.add("lyapunov", lyapunov_plugin);
+  plugins.trackers.add("dwa", dwa_plugin);
+  plugins.trackers.add("vfh", vfh_plugin);
   plugins.estimators.add("ekf", ekf_plugin);
   plugins.estimators.add("odometry", odometry_plugin);
   plugins.kinematics.add("differential", differential_plugin);

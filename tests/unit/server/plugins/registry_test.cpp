@@ -33,7 +33,7 @@ TEST(Registry, EveryRegisteredPluginIsConstructibleFromItsDefaults) {
 TEST(Registry, KnowsTheBuiltInNames) {
   const Plugins plugins = builtin_plugins();
   EXPECT_EQ(plugins.planners.names(), (std::vector<std::string>{"astar", "voronoi"}));
-  EXPECT_EQ(plugins.trackers.names(), (std::vector<std::string>{"lyapunov"}));
+  EXPECT_EQ(plugins.trackers.names(), (std::vector<std::string>{"dwa", "lyapunov", "vfh"}));
   EXPECT_EQ(plugins.estimators.names(), (std::vector<std::string>{"ekf", "odometry"}));
   EXPECT_EQ(plugins.kinematics.names(), (std::vector<std::string>{"differential"}));
   EXPECT_FALSE(plugins.planners.contains("dijkstra"));
