@@ -5,7 +5,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/control/stop_and_rotate.h"
 #include "core/geometry/polyline.h"
 
 namespace mobot::control {
@@ -145,22 +144,14 @@ DwaTracker::DwaTracker(const DwaOptions& options) : options_(options) {
 }
 
 bool DwaTracker::set_path(const planning::Path& path, std::optional<double> goal_heading_rad) {
-  if (path.empty() || !path.all_finite()) return false;
-  if (goal_heading_rad && !std::isfinite(*goal_heading_rad)) return false;
-  path_ = path;
-  const double heading = goal_heading_rad.value_or(path.heading_at(path.length_m()));
-  goal_ = {path.back().x, path.back().y, geometry::wrap_angle(heading)};
-  status_ = {};
-  status_.state = TrackerState::kTracking;
-  status_.remaining_m = path.length_m();
+  if (!progress_.start(path, goal_heading_rad)) return false;
   blocked_ = false;
   chosen_.clear();
   return true;
 }
 
 void DwaTracker::clear() {
-  path_ = {};
-  status_ = {};
+  progress_.clear();
   blocked_ = false;
   chosen_.clear();
 }
@@ -170,48 +161,30 @@ msgs::Twist DwaTracker::compute(const geometry::Pose2D& pose, const msgs::Twist&
   scored_ = 0;
   admissible_ = 0;
   chosen_.clear();
-  if (status_.state == TrackerState::kIdle || status_.state == TrackerState::kArrived) return {};
-  if (!geometry::is_finite(pose)) return {};
-
-  status_.progress_m =
-      path_.project({pose.x, pose.y}, status_.progress_m, options_.projection_window_m);
-  status_.remaining_m = path_.length_m() - status_.progress_m;
-  status_.distance_to_goal_m = std::hypot(goal_.x - pose.x, goal_.y - pose.y);
-  status_.heading_error_rad = geometry::wrap_angle(pose.theta - goal_.theta);
-
-  if (status_.state == TrackerState::kTracking &&
-      status_.distance_to_goal_m <= options_.goal_tolerance_m) {
-    status_.state = TrackerState::kFinalApproach;
-  }
-  if (status_.state == TrackerState::kTracking) return track(pose, velocity);
-
+  if (!progress_.update(pose, options_.goal_tolerance_m, options_.projection_window_m)) return {};
+  if (progress_.tracking()) return track(pose, velocity);
   blocked_ = false;
-  const StopAndRotate out = stop_and_rotate(options_.limits, velocity, status_.heading_error_rad,
-                                            options_.goal_tolerance_rad);
-  if (out.arrived) {
-    status_.state = TrackerState::kArrived;
-    return {};
-  }
-  return out.command;
+  return progress_.final_approach(options_.limits, velocity, options_.goal_tolerance_rad);
 }
 
 msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& velocity) {
+  const planning::Path& path = progress_.path();
   const DwaOptions& o = options_;
   const CostLookup costs(costmap_.get());
 
   // The local goal: where the path leaves the costmap, or local_goal_distance_m along it.
-  const double from_s = status_.progress_m;
-  double goal_s = std::min(from_s + o.local_goal_distance_m, path_.length_m());
+  const double from_s = progress_.status().progress_m;
+  double goal_s = std::min(from_s + o.local_goal_distance_m, path.length_m());
   if (costs.has_grid()) {
     const double step = costmap_->resolution_m();
     goal_s = from_s;
-    for (double s = from_s; s <= path_.length_m(); s += step) {
-      const geometry::Point2D p = path_.point_at(s);
+    for (double s = from_s; s <= path.length_m(); s += step) {
+      const geometry::Point2D p = path.point_at(s);
       if (!costs.cell(p.x, p.y)) break;
       goal_s = s;
     }
-    const geometry::Point2D end = path_.back();
-    if (costs.cell(end.x, end.y) && goal_s + step > path_.length_m()) goal_s = path_.length_m();
+    const geometry::Point2D end = path.back();
+    if (costs.cell(end.x, end.y) && goal_s + step > path.length_m()) goal_s = path.length_m();
   }
   Scoring scoring;
   // The path from the projection to the local goal, sampled at the costmap's resolution, split
@@ -219,14 +192,14 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   const double sample_m = costs.has_grid() ? costmap_->resolution_m() : o.local_goal_distance_m;
   // The polyline of the path between two arc lengths: its ends and the path's own vertices
   // between them (a straight stretch stays two points however finely it was sampled).
-  const auto stretch = [this](double begin_s, double end_s) {
-    std::vector<geometry::Point2D> out{path_.point_at(begin_s)};
-    for (std::size_t i = 0; i < path_.size(); ++i) {
-      if (path_.s_at_vertex(i) > begin_s && path_.s_at_vertex(i) < end_s) {
-        out.push_back(path_.points()[i]);
+  const auto stretch = [&path](double begin_s, double end_s) {
+    std::vector<geometry::Point2D> out{path.point_at(begin_s)};
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      if (path.s_at_vertex(i) > begin_s && path.s_at_vertex(i) < end_s) {
+        out.push_back(path.points()[i]);
       }
     }
-    if (end_s > begin_s) out.push_back(path_.point_at(end_s));
+    if (end_s > begin_s) out.push_back(path.point_at(end_s));
     return out;
   };
   if (!costs.has_grid()) {
@@ -235,7 +208,7 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
     std::optional<double> run_start;
     double run_end = from_s;
     for (double s = from_s;; s = std::min(s + sample_m, goal_s)) {
-      const geometry::Point2D p = path_.point_at(s);
+      const geometry::Point2D p = path.point_at(s);
       if (costs.cost(p.x, p.y) < PlanningGrid::kLethal) {
         if (!run_start) run_start = s;
         run_end = s;
@@ -250,16 +223,17 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   // The local goal must be a free cell: walk back along the path to the last free point.
   double local_goal_s = goal_s;
   while (local_goal_s > from_s) {
-    const geometry::Point2D p = path_.point_at(local_goal_s);
+    const geometry::Point2D p = path.point_at(local_goal_s);
     if (PlanningGrid::is_traversable_cost(costs.cost(p.x, p.y))) break;
     local_goal_s = std::max(from_s, local_goal_s - sample_m);
   }
-  scoring.local_goal = path_.point_at(local_goal_s);
-  const double goal_heading = path_.heading_at(local_goal_s);
+  scoring.local_goal = path.point_at(local_goal_s);
+  const double goal_heading = path.heading_at(local_goal_s);
   scoring.goal_front = {scoring.local_goal.x + o.forward_point_distance_m * std::cos(goal_heading),
                         scoring.local_goal.y + o.forward_point_distance_m * std::sin(goal_heading)};
-  scoring.alignment_scale =
-      status_.distance_to_goal_m > o.forward_point_distance_m ? o.path_distance_bias : 0.0;
+  scoring.alignment_scale = progress_.status().distance_to_goal_m > o.forward_point_distance_m
+                                ? o.path_distance_bias
+                                : 0.0;
 
   // Standing still is the score to beat; from an inscribed or lethal cell nothing is admissible.
   const std::uint8_t here = costs.cost(pose.x, pose.y);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/control/dynamic_window.h"
+#include "core/control/path_progress.h"
 #include "core/control/path_tracker.h"
 #include "core/geometry/pose2d.h"
 #include "core/msgs/twist.h"
@@ -75,7 +76,7 @@ class DwaTracker : public PathTracker {
   }
   msgs::Twist compute(const geometry::Pose2D& pose, const msgs::Twist& velocity,
                       double now_s) override;
-  TrackerStatus status() const override { return status_; }
+  TrackerStatus status() const override { return progress_.status(); }
 
   const DwaOptions& options() const { return options_; }
   // The last compute() found no trajectory worth taking and commanded a stop.
@@ -92,9 +93,7 @@ class DwaTracker : public PathTracker {
 
   DwaOptions options_;
   std::shared_ptr<const planning::PlanningGrid> costmap_;
-  planning::Path path_;
-  geometry::Pose2D goal_;
-  TrackerStatus status_;
+  PathProgress progress_;
   bool blocked_ = false;
   std::vector<geometry::Pose2D> chosen_;
   int scored_ = 0;

@@ -6,8 +6,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/control/stop_and_rotate.h"
-
 namespace mobot::control {
 namespace {
 
@@ -49,14 +47,7 @@ VfhTracker::VfhTracker(const VfhOptions& options) : options_(options) {
 }
 
 bool VfhTracker::set_path(const planning::Path& path, std::optional<double> goal_heading_rad) {
-  if (path.empty() || !path.all_finite()) return false;
-  if (goal_heading_rad && !std::isfinite(*goal_heading_rad)) return false;
-  path_ = path;
-  const double heading = goal_heading_rad.value_or(path.heading_at(path.length_m()));
-  goal_ = {path.back().x, path.back().y, geometry::wrap_angle(heading)};
-  status_ = {};
-  status_.state = TrackerState::kTracking;
-  status_.remaining_m = path.length_m();
+  if (!progress_.start(path, goal_heading_rad)) return false;
   blocked_ = false;
   std::fill(binary_.begin(), binary_.end(), false);
   chosen_.reset();
@@ -65,8 +56,7 @@ bool VfhTracker::set_path(const planning::Path& path, std::optional<double> goal
 }
 
 void VfhTracker::clear() {
-  path_ = {};
-  status_ = {};
+  progress_.clear();
   blocked_ = false;
   chosen_.reset();
   previous_.reset();
@@ -186,29 +176,10 @@ std::optional<double> VfhTracker::choose_direction(double target_rad, double hea
 msgs::Twist VfhTracker::compute(const geometry::Pose2D& pose, const msgs::Twist& velocity,
                                 double /*now_s*/) {
   chosen_.reset();
-  if (status_.state == TrackerState::kIdle || status_.state == TrackerState::kArrived) return {};
-  if (!geometry::is_finite(pose)) return {};
-
-  status_.progress_m =
-      path_.project({pose.x, pose.y}, status_.progress_m, options_.projection_window_m);
-  status_.remaining_m = path_.length_m() - status_.progress_m;
-  status_.distance_to_goal_m = std::hypot(goal_.x - pose.x, goal_.y - pose.y);
-  status_.heading_error_rad = geometry::wrap_angle(pose.theta - goal_.theta);
-
-  if (status_.state == TrackerState::kTracking &&
-      status_.distance_to_goal_m <= options_.goal_tolerance_m) {
-    status_.state = TrackerState::kFinalApproach;
-  }
-  if (status_.state == TrackerState::kTracking) return track(pose, velocity);
-
+  if (!progress_.update(pose, options_.goal_tolerance_m, options_.projection_window_m)) return {};
+  if (progress_.tracking()) return track(pose, velocity);
   blocked_ = false;
-  const StopAndRotate out = stop_and_rotate(options_.limits, velocity, status_.heading_error_rad,
-                                            options_.goal_tolerance_rad);
-  if (out.arrived) {
-    status_.state = TrackerState::kArrived;
-    return {};
-  }
-  return out.command;
+  return progress_.final_approach(options_.limits, velocity, options_.goal_tolerance_rad);
 }
 
 msgs::Twist VfhTracker::track(const geometry::Pose2D& pose, const msgs::Twist& velocity) {
@@ -216,9 +187,10 @@ msgs::Twist VfhTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   const DynamicLimits& limits = o.limits;
   // The target: the carrot on the path, or the goal itself once it is nearer than the carrot.
   const geometry::Point2D target =
-      status_.distance_to_goal_m <= o.lookahead_m
-          ? geometry::Point2D{goal_.x, goal_.y}
-          : path_.point_at(std::min(status_.progress_m + o.lookahead_m, path_.length_m()));
+      progress_.status().distance_to_goal_m <= o.lookahead_m
+          ? geometry::Point2D{progress_.goal().x, progress_.goal().y}
+          : progress_.path().point_at(std::min(progress_.status().progress_m + o.lookahead_m,
+                                               progress_.path().length_m()));
   const double target_rad = std::atan2(target.y - pose.y, target.x - pose.x);
 
   build_histogram(pose);
@@ -244,7 +216,8 @@ msgs::Twist VfhTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
     const double density = std::min(smoothed_[ahead], o.slowdown_density);
     wanted.linear_mps = limits.max_linear_mps * (1.0 - density / o.slowdown_density) *
                         (1.0 - std::abs(wanted.angular_radps) / limits.max_angular_radps);
-    wanted.linear_mps = std::min(wanted.linear_mps, status_.distance_to_goal_m / o.approach_time_s);
+    wanted.linear_mps =
+        std::min(wanted.linear_mps, progress_.status().distance_to_goal_m / o.approach_time_s);
   }
   msgs::Twist command = window.clamp(wanted);
   // The last guard: where a short stretch of this motion ends must not be an inscribed cell.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/control/dynamic_window.h"
+#include "core/control/path_progress.h"
 #include "core/control/path_tracker.h"
 #include "core/geometry/pose2d.h"
 #include "core/msgs/twist.h"
@@ -79,7 +80,7 @@ class VfhTracker : public PathTracker {
   }
   msgs::Twist compute(const geometry::Pose2D& pose, const msgs::Twist& velocity,
                       double now_s) override;
-  TrackerStatus status() const override { return status_; }
+  TrackerStatus status() const override { return progress_.status(); }
 
   const VfhOptions& options() const { return options_; }
   bool blocked() const { return blocked_; }
@@ -96,9 +97,7 @@ class VfhTracker : public PathTracker {
 
   VfhOptions options_;
   std::shared_ptr<const planning::PlanningGrid> costmap_;
-  planning::Path path_;
-  geometry::Pose2D goal_;
-  TrackerStatus status_;
+  PathProgress progress_;
   bool blocked_ = false;
   std::vector<double> histogram_;
   std::vector<double> smoothed_;
