@@ -1,6 +1,9 @@
 #include "server/plugins/estimator_plugins.h"
 
+#include <numbers>
+
 #include "core/estimation/ekf_pose_estimator.h"
+#include "core/estimation/particle_filter/particle_filter_estimator.h"
 #include "server/plugins/option_reader.h"
 
 namespace mobot::server {
@@ -26,6 +29,25 @@ void read_fuse(OptionReader& reader, estimation::EkfPoseEstimatorOptions& option
   }
 }
 
+void read_combination(OptionReader& reader, estimation::BeamLikelihoodOptions& options) {
+  const YAML::Node node = reader.node("combination");
+  if (!node) return;
+  const std::string where = reader.path() + ".combination";
+  std::string name;
+  try {
+    name = node.as<std::string>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where + ": expected product or cubed_sum");
+  }
+  if (name == "product") {
+    options.combination = estimation::BeamCombination::kProduct;
+  } else if (name == "cubed_sum") {
+    options.combination = estimation::BeamCombination::kCubedSum;
+  } else {
+    throw ConfigError(where + ": '" + name + "' is not one of product, cubed_sum");
+  }
+}
+
 }  // namespace
 
 Registry<estimation::PoseEstimator>::Maker ekf_plugin(const YAML::Node& section,
@@ -46,6 +68,53 @@ Registry<estimation::PoseEstimator>::Maker odometry_plugin(const YAML::Node& sec
   options.name = "odometry";
   options.fuse_compass = options.fuse_lines = options.fuse_bearing = false;
   return [options] { return std::make_unique<estimation::EkfPoseEstimator>(options); };
+}
+
+Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::Node& section,
+                                                                  const PluginContext&) {
+  estimation::ParticleFilterEstimatorOptions options;
+  estimation::ParticleFilterOptions& filter = options.filter;
+  OptionReader reader(section, "estimators.particle_filter");
+  int min_particles = static_cast<int>(filter.kld.min_particles);
+  int max_particles = static_cast<int>(filter.kld.max_particles);
+  reader.integer("min_particles", min_particles, 10, 1000000);
+  reader.integer("max_particles", max_particles, 10, 1000000);
+  if (min_particles > max_particles) {
+    throw ConfigError(reader.path() + ".min_particles: " + std::to_string(min_particles) +
+                      " is above max_particles (" + std::to_string(max_particles) + ")");
+  }
+  filter.kld.min_particles = static_cast<std::size_t>(min_particles);
+  filter.kld.max_particles = static_cast<std::size_t>(max_particles);
+  reader.number("kld_epsilon", filter.kld.epsilon, 1e-4, 1.0);
+  reader.number("kld_z", filter.kld.z_quantile, 0.0, 10.0);
+  reader.number("update_min_translation_m", filter.update_min_translation_m, 0.0, 10.0);
+  reader.number("update_min_rotation_rad", filter.update_min_rotation_rad, 0.0, std::numbers::pi);
+  reader.number("alpha1", filter.motion.alpha1, 0.0, 10.0);
+  reader.number("alpha2", filter.motion.alpha2, 0.0, 10.0);
+  reader.number("alpha3", filter.motion.alpha3, 0.0, 10.0);
+  reader.number("alpha4", filter.motion.alpha4, 0.0, 10.0);
+  reader.integer("resample_interval", filter.resample_interval, 1, 100);
+  reader.integer("max_beams", filter.laser.max_beams, 2, 10000);
+  read_combination(reader, filter.laser);
+  reader.number("product_exponent", filter.laser.product_exponent, 0.001, 1.0);
+  reader.number("z_hit", filter.laser.z_hit, 0.0, 1.0);
+  reader.number("z_rand", filter.laser.z_rand, 0.0, 1.0);
+  reader.number("sigma_hit_m", filter.laser.sigma_hit_m, 0.001, 10.0);
+  reader.number("laser_max_range_m", filter.laser.range_max_m, 0.1, 1000.0);
+  reader.number("likelihood_max_distance_m", filter.field.max_distance_m, 0.01, 20.0);
+  reader.number("recovery_alpha_slow", filter.alpha_slow, 0.0, 1.0);
+  reader.number("recovery_alpha_fast", filter.alpha_fast, 0.0, 1.0);
+  reader.number("kidnap_probability", filter.kidnap_probability, 0.0, 1.0);
+  reader.number("converged_position_std_m", filter.converged_position_std_m, 0.001, 100.0);
+  reader.number("converged_heading_std_rad", filter.converged_heading_std_rad, 0.001,
+                std::numbers::pi);
+  reader.number("converged_min_cluster_weight", filter.converged_min_cluster_weight, 0.01, 1.0);
+  reader.integer("converged_min_updates", filter.converged_min_updates, 1, 1000);
+  int seed = static_cast<int>(filter.seed);
+  reader.integer("seed", seed, 0, 2147483647);
+  filter.seed = static_cast<std::uint64_t>(seed);
+  reader.done();
+  return [options] { return std::make_unique<estimation::ParticleFilterEstimator>(options); };
 }
 
 }  // namespace mobot::server

@@ -25,6 +25,7 @@ Plugins builtin_plugins() {
   plugins.trackers.add("vfh", vfh_plugin);
   plugins.estimators.add("ekf", ekf_plugin);
   plugins.estimators.add("odometry", odometry_plugin);
+  plugins.estimators.add("particle_filter", particle_filter_plugin);
   plugins.kinematics.add("differential", differential_plugin);
   return plugins;
 }

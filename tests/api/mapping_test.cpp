@@ -135,7 +135,7 @@ TEST_F(MappingTest, MethodSwitchesLiveAndBadMethodsChangeNothing) {
 
 // Disabled until the particle filter is registered (issue 10 is open): without it the server
 // answers 409 unsupported_method.
-TEST_F(MappingTest, DISABLED_GlobalLocalizationSpreadsParticles) {
+TEST_F(MappingTest, GlobalLocalizationSpreadsParticles) {
   const HttpReply reply = operator_client().post("/api/v1/localization/global", "");
   ASSERT_EQ(reply.status, 202) << reply.body;
   EXPECT_EQ(reply.json(), (json{{"method", "particle_filter"}}));

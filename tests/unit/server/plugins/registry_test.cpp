@@ -34,7 +34,8 @@ TEST(Registry, KnowsTheBuiltInNames) {
   const Plugins plugins = builtin_plugins();
   EXPECT_EQ(plugins.planners.names(), (std::vector<std::string>{"astar", "voronoi"}));
   EXPECT_EQ(plugins.trackers.names(), (std::vector<std::string>{"dwa", "lyapunov", "vfh"}));
-  EXPECT_EQ(plugins.estimators.names(), (std::vector<std::string>{"ekf", "odometry"}));
+  EXPECT_EQ(plugins.estimators.names(),
+            (std::vector<std::string>{"ekf", "odometry", "particle_filter"}));
   EXPECT_EQ(plugins.kinematics.names(), (std::vector<std::string>{"differential"}));
   EXPECT_FALSE(plugins.planners.contains("dijkstra"));
   EXPECT_FALSE(plugins.trackers.contains("teb"));
