@@ -1,6 +1,5 @@
 #pragma once
 
-#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
@@ -8,6 +7,7 @@
 
 #include "server/bus.h"
 #include "server/control_loop.h"
+#include "server/latest.h"
 #include "server/map_listener.h"
 #include "server/pipeline.h"
 #include "server/runtime_state.h"
@@ -58,7 +58,7 @@ class Runtime {
   // The robot clock: advances one period per tick and never goes back (not even when the
   // simulator restarts), so the trajectory, the watchdog and the stream stamps stay monotonic.
   double now_s_ = 0.0;
-  std::atomic<std::shared_ptr<const RuntimeState>> state_;
+  Latest<RuntimeState> state_;
   ControlLoop loop_;
 };
 

@@ -1,8 +1,8 @@
 #pragma once
 
-#include <atomic>
 #include <memory>
 
+#include "server/latest.h"
 #include "server/mapping/slam_worker.h"
 #include "server/stage.h"
 
@@ -35,7 +35,7 @@ class MappingStage final : public Stage {
  private:
   SlamWorkerOptions options_;
   std::shared_ptr<SlamWorker> worker_;  // the loop's
-  std::atomic<std::shared_ptr<const MappingSession>> session_;
+  Latest<MappingSession> session_;
 };
 
 }  // namespace mobot::server

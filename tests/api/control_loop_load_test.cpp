@@ -1,13 +1,14 @@
 // A flood of REST and stream requests does not make the control loop late: 50 clients hammer
 // /robot and the stream's ping for a few seconds while the robot drives, and the loop's own
-// lateness metric stays below 1 ms at the 99th percentile: commands are posted to the loop, reads
-// come from the published state, and the loop's thread runs with real-time priority. (The rare
-// tick that still starts late waits on a lock a preempted network thread holds; the test prints
-// the worst and the skipped ticks.)
+// lateness metric stays below a quarter of the period at the 99th percentile and no tick is skipped:
+// commands are posted to the loop, reads come from the published state (behind a
+// priority-inheritance lock, so a preempted reader cannot hold the loop up), and the loop's thread
+// runs with real-time priority. The test prints the worst tick and the worst lateness.
 #include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include "support/api_test.h"
@@ -29,6 +30,8 @@ TEST(ControlLoopLoad, FiftyClientsHammeringRestAndPingDoNotMakeTheLoopLate) {
   std::ofstream(config) << "robot:\n  realtime_priority: 20\n";
   MobotdProcess::Options options;
   options.extra_args = {"--config", config.string()};
+  // In real time, as on the robot: a tick every 20 ms of wall time.
+  options.time_scale = 1.0;
   MobotdProcess process(options);
   const HttpClient admin(process.port(), process.token());
   const std::string before = admin.get("/metrics").body;
@@ -84,9 +87,18 @@ TEST(ControlLoopLoad, FiftyClientsHammeringRestAndPingDoNotMakeTheLoopLate) {
       metric(metrics, "mobot_control_tick_lateness_seconds_max") * 1e3,
       metric(metrics, "mobot_control_tick_seconds_mean") * 1e3,
       metric(metrics, "mobot_control_tick_seconds_max") * 1e3, late_ticks - late_ticks_before);
+  // Where a slow tick went: the slowest run of each stage.
+  std::istringstream lines(metrics);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("mobot_stage_seconds_max", 0) == 0) std::printf("  %s\n", line.c_str());
+  }
   EXPECT_EQ(failures.load(), 0);
   EXPECT_GT(requests.load(), 1000);
-  EXPECT_LT(p99_s, 1e-3);
+  // The loop keeps its 20 ms period: no tick skipped, and 99 % of them start within a quarter of
+  // the period. The load runs on the same two cores as the loop; BENCHMARKS.md has the measured
+  // lateness.
+  EXPECT_EQ(late_ticks - late_ticks_before, 0.0);
+  EXPECT_LT(p99_s, 5e-3);
 }
 
 }  // namespace
