@@ -108,7 +108,8 @@ App::App(Config config)
   run_archive_ = std::make_unique<RunArchive>(runs_, *recorder_, runtime);
   if (drivers::SimControl* sim = robot_->backend().sim_control()) {
     if (config_.sim.provide_map) {
-      map_catalog_->ensure_named_map(sim->world_name(), sim->surveyed_map());
+      map_catalog_->ensure_named_map(sim->world_name(), sim->surveyed_map(),
+                                     MapCatalog::Activation::kWhenNoneActive);
     }
     sim_ = std::make_unique<SimService>(
         *sim, runtime, *recorder_, *map_catalog_,

@@ -1,5 +1,7 @@
 #include "server/services/map_catalog.h"
 
+#include <optional>
+
 #include "server/wall_clock.h"
 
 #include "core/geometry/simple_polygon.h"
@@ -85,15 +87,15 @@ void MapCatalog::reactivate(api::Completion<api::Done> done) {
   });
 }
 
-void MapCatalog::ensure_named_map(const std::string& name, const mapping::OccupancyGrid& floor) {
+void MapCatalog::ensure_named_map(const std::string& name, const mapping::OccupancyGrid& floor,
+                                  Activation activation) {
   std::lock_guard lock(mutex_);
+  std::optional<std::int64_t> id;
   for (const auto& meta : maps_.list()) {
-    if (meta.name == name) {
-      if (!meta.active) maps_.activate(meta.id);
-      return;
-    }
+    if (meta.name == name) id = meta.id;
   }
-  maps_.activate(maps_.insert(name, floor, unix_now_s()));
+  if (!id) id = maps_.insert(name, floor, unix_now_s());
+  if (activation == Activation::kAlways || !maps_.active_id()) maps_.activate(*id);
 }
 
 void MapCatalog::delete_map(std::int64_t id) {

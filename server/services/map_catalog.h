@@ -36,9 +36,14 @@ class MapCatalog final : public api::MapCatalogPort {
   void delete_zone(std::int64_t map_id, std::int64_t zone_id,
                    api::Completion<api::Done> done) override;
 
+  // Whether ensure_named_map takes the active map from another: a world chosen now does, the world
+  // found at start-up does not (the map the user activated, or saved from mapping, stays active
+  // across restarts).
+  enum class Activation { kAlways, kWhenNoneActive };
   // Makes the map called `name` active, storing `floor` under that name first when no map has it
   // (a simulated world's surveyed map). Thread-safe.
-  void ensure_named_map(const std::string& name, const mapping::OccupancyGrid& floor);
+  void ensure_named_map(const std::string& name, const mapping::OccupancyGrid& floor,
+                        Activation activation);
   // Prepares the active map on the caller's thread and posts the switch: at start-up, before the
   // control loop runs, so the first tick already has it.
   void activate_stored_now();

@@ -16,7 +16,13 @@ api::DomainError pose_in_obstacle() {
 
 SimService::SimService(drivers::SimControl& sim, Runtime& runtime, Recorder& recorder,
                        MapCatalog& maps, ResetStages stages)
-    : sim_(sim), runtime_(runtime), recorder_(recorder), maps_(maps), stages_(stages) {}
+    : sim_(sim), runtime_(runtime), recorder_(recorder), maps_(maps), stages_(stages) {
+  // The truth is known before the first tick: a reader right after start-up sees where the robot
+  // stands, not the origin. (Posted before the loop starts: it runs with the start-up commands.)
+  runtime_.post([this](TickContext& context) {
+    context.truth = api::SimTruth{context.now_s, sim_.true_pose(), sim_.collision_count()};
+  });
+}
 
 std::vector<api::WorldInfo> SimService::list_worlds() const {
   std::vector<api::WorldInfo> out;
@@ -40,7 +46,7 @@ void SimService::sim_reset(const api::SimResetRequest& request, api::Completion<
     if (request.pose && !sim_.pose_is_free(*request.pose, world.get())) {
       return done(pose_in_obstacle());
     }
-    maps_.ensure_named_map(world->name, world->surveyed_map);
+    maps_.ensure_named_map(world->name, world->surveyed_map, MapCatalog::Activation::kAlways);
   }
   runtime_.post([this, world, request, done = std::move(done)](TickContext& context) mutable {
     if (context.mapping) return done(mapping_active());

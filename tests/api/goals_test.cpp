@@ -358,7 +358,7 @@ TEST_F(GoalsTest, ImpossibleGoalsAre422AndChangeNothing) {
       {{{"x", 1e5}, {"y", -1e5}}, "goal_outside_map"},
       // Well-formed but not in this build.
       {{{"x", 5.0}, {"y", 6.65}, {"planner", "voronoi"}}, "goal_in_obstacle"},
-      {{{"x", 5.0}, {"y", 7.5}, {"controller", "dwa"}}, "unsupported_controller"},
+      {{{"x", 5.0}, {"y", 7.5}, {"controller", "potential_field"}}, "unsupported_controller"},
   };
   for (const auto& test : cases) {
     const HttpReply reply = operator_client().post("/api/v1/goals", test.body);

@@ -312,7 +312,7 @@ TEST_F(OpenApiTest, GoalAndLocalizationErrorStatusesAreDocumented) {
       {"POST", "/api/v1/goals", R"({"x":5,"y":7.5,"planner":"rrt"})", operator_client(), 400},
       {"POST", "/api/v1/goals", R"({"x":5,"y":6.42})", operator_client(), 422},
       {"POST", "/api/v1/goals", R"({"x":50,"y":7.5})", operator_client(), 422},
-      {"POST", "/api/v1/goals", R"({"x":5,"y":7.5,"controller":"dwa"})", operator_client(), 422},
+      {"POST", "/api/v1/goals", R"({"x":5,"y":7.5,"controller":"potential_field"})", operator_client(), 422},
       {"GET", "/api/v1/goals/999999", "", viewer(), 404},
       {"DELETE", "/api/v1/goals/999999", "", operator_client(), 404},
       {"DELETE", "/api/v1/goals/999999", "", viewer(), 403},
