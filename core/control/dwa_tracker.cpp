@@ -205,20 +205,23 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   if (!costs.has_grid()) {
     scoring.free_path = {stretch(from_s, goal_s)};
   } else {
-    std::optional<double> run_start;
+    // The free run under way: [run_start, run_end] while in_run.
+    bool in_run = false;
+    double run_start = from_s;
     double run_end = from_s;
     for (double s = from_s;; s = std::min(s + sample_m, goal_s)) {
       const geometry::Point2D p = path.point_at(s);
       if (costs.cost(p.x, p.y) < PlanningGrid::kLethal) {
-        if (!run_start) run_start = s;
+        if (!in_run) run_start = s;
+        in_run = true;
         run_end = s;
-      } else if (run_start) {
-        scoring.free_path.push_back(stretch(*run_start, run_end));
-        run_start.reset();
+      } else if (in_run) {
+        scoring.free_path.push_back(stretch(run_start, run_end));
+        in_run = false;
       }
       if (s >= goal_s) break;
     }
-    if (run_start) scoring.free_path.push_back(stretch(*run_start, run_end));
+    if (in_run) scoring.free_path.push_back(stretch(run_start, run_end));
   }
   // The local goal must be a free cell: walk back along the path to the last free point.
   double local_goal_s = goal_s;
