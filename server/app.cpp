@@ -152,6 +152,7 @@ int App::run() {
 
   const auto endpoint = http_->listen({config_.server.bind_address, config_.server.port});
   robot_->runtime().start(config_.sim.time_scale);
+  wait_for_first_tick();
   const unsigned threads = std::max(2U, std::thread::hardware_concurrency());
   for (unsigned i = 0; i < threads; ++i) io_threads_.emplace_back([this] { io_.run(); });
 
@@ -168,6 +169,16 @@ int App::run() {
   spdlog::info("signal {} received: stopping the robot and closing the run", received);
   shut_down();
   return 0;
+}
+
+void App::wait_for_first_tick() {
+  // Requests are served from the first tick on: before it the published state has no pose from
+  // the drivers, no sensors and no localization method. The loop's period bounds the wait.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (robot_->runtime().state()->robot.t_s <= 0.0 &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
 }
 
 void App::shut_down() {

@@ -51,6 +51,7 @@ class App final : public api::SystemPort {
  private:
   void ensure_admin_token();
   api::Ports ports();
+  void wait_for_first_tick();
   void shut_down();
 
   Config config_;

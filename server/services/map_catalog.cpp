@@ -4,6 +4,7 @@
 
 #include "server/wall_clock.h"
 
+#include "core/costmap/keepout_layer.h"
 #include "core/geometry/simple_polygon.h"
 
 #include <boost/asio/post.hpp>
@@ -132,6 +133,15 @@ void MapCatalog::add_zone(std::int64_t map_id, const std::string& name,
   }
   boost::asio::post(worker_, [this, map_id, name, polygon, done = std::move(done)]() mutable {
     std::lock_guard lock(mutex_);
+    const auto existing = zones_.list(map_id);
+    if (!existing) return done(unknown_map());
+    // The keep-out layer rasterises at most this many: one more would make the map unusable.
+    const std::size_t limit = costmap::KeepoutLayerOptions{}.max_zones;
+    if (existing->size() >= limit) {
+      return done(api::DomainError{
+          api::ErrorKind::kConflict, "too_many_zones",
+          "a map holds at most " + std::to_string(limit) + " keep-out zones: delete one first"});
+    }
     const auto id = zones_.insert(map_id, name, polygon, unix_now_s());
     if (!id) return done(unknown_map());
     // Acknowledged once planning on the active map avoids it.

@@ -186,6 +186,37 @@ TEST_F(MappingTest, ZonesAreStoredValidatedAndDeleted) {
   EXPECT_TRUE(viewer().get(zones).json().empty());
 }
 
+TEST_F(MappingTest, AMapHoldsAtMost64ZonesAndTheNextIsRefused) {
+  const std::int64_t map_id = active_map_id(viewer());
+  const std::string zones = "/api/v1/maps/" + std::to_string(map_id) + "/zones";
+  std::vector<std::int64_t> ids;
+  for (int i = 0; i < 64; ++i) {
+    // Small squares along the map's southern edge, away from the robot.
+    const double x = 0.1 + 0.2 * i;
+    const json square = {{x, 0.05}, {x + 0.1, 0.05}, {x + 0.1, 0.15}, {x, 0.15}};
+    const HttpReply added = operator_client().post(zones, json{{"polygon", square}});
+    ASSERT_EQ(added.status, 201) << i << ": " << added.body;
+    ids.push_back(added.json().at("id").get<std::int64_t>());
+  }
+  const json one_more = {{0.1, 0.3}, {0.2, 0.3}, {0.2, 0.4}};
+  const HttpReply refused = operator_client().post(zones, json{{"polygon", one_more}});
+  EXPECT_EQ(refused.status, 409) << refused.body;
+  EXPECT_EQ(refused.error_code(), "too_many_zones");
+  EXPECT_EQ(viewer().get(zones).json().size(), 64U) << "the refused zone was stored";
+  // Planning still answers on the map with its 64 zones (the planning grid was rebuilt with them).
+  const json pose = sim_truth(viewer()).at("pose");
+  const HttpReply goal = post_goal(operator_client(), pose.at("x").get<double>() + 3.0,
+                                   pose.at("y").get<double>(), 0.0);
+  EXPECT_TRUE(goal.status == 201 || goal.status == 422) << goal.body;
+  if (goal.status == 201) {
+    operator_client().del("/api/v1/goals/" + std::to_string(goal.json().at("id").get<int>()));
+  }
+  for (const std::int64_t id : ids) {
+    EXPECT_EQ(operator_client().del(zones + "/" + std::to_string(id)).status, 204);
+  }
+  EXPECT_TRUE(viewer().get(zones).json().empty());
+}
+
 TEST_F(MappingTest, PlanningNeverEntersAKeepoutZone) {
   const std::int64_t map_id = active_map_id(viewer());
   const std::string zones = "/api/v1/maps/" + std::to_string(map_id) + "/zones";
