@@ -23,6 +23,8 @@ void Runtime::tick() {
   context_.begin(now_s_, period_s_);
   pipeline_.step(context_);
   publish_state();
+  // The stream's batch after the state: a frame's reader never finds older state on REST.
+  bus_.flush.publish({context_.now_s});
   run_after_publish();
 }
 

@@ -54,7 +54,8 @@ void PublishStage::step(TickContext& context) {
     bus.status.publish(robot_snapshot(context, kinematics_));
     status_schedule_.taken(context.now_s);
   }
-  bus.flush.publish({context.now_s});
+  // The batch goes out from Runtime::tick, after the state is published: a client that reads
+  // /robot or /goals on a frame sees the state the frame came from.
 }
 
 }  // namespace mobot::server

@@ -57,7 +57,23 @@ TEST(Runtime, ACommandRunsBetweenTicksAndItsReplySeesTheStateItMade) {
   runtime.tick();
   EXPECT_EQ(log, (std::vector<std::string>{"stage@1", "command", "stage@2"}));
   EXPECT_EQ(mode_in_reply, "navigating");
-  EXPECT_EQ(flushes, 1) << "a command's publications are flushed at once";
+  EXPECT_EQ(flushes, 3) << "each tick's and the command's publications are flushed at once";
+}
+
+TEST(Runtime, ATicksStreamBatchGoesOutAfterItsStateIsPublished) {
+  Bus bus;
+  std::vector<std::string> log;
+  Pipeline pipeline;
+  pipeline.add(std::make_unique<RecordingStage>("stage", log));
+  Runtime runtime(bus, std::move(pipeline), 0.02, "differential");
+  std::vector<double> state_t_at_flush;
+  bus.flush.subscribe([&](const TickEnd& end) {
+    EXPECT_NEAR(runtime.state()->robot.t_s, end.t_s, 1e-12) << "flushed before the state";
+    state_t_at_flush.push_back(end.t_s);
+  });
+  runtime.tick();
+  runtime.tick();
+  EXPECT_EQ(state_t_at_flush.size(), 2U);
 }
 
 }  // namespace
