@@ -15,6 +15,11 @@ SlamWorkerOptions read_slam_options(const YAML::Node& root) {
   reader.number("resolution_m", slam.resolution_m, 0.01, 0.5);
   reader.number("loop_search_radius_m", slam.loop_search_radius_m, 0.5, 50.0);
   reader.number("loop_min_score", slam.loop_min_score, 0.0, 1.0);
+  reader.number("match_covariance_scale", slam.match_covariance_scale, 0.001, 1000.0);
+  reader.number("loop_covariance_scale", slam.loop_covariance_scale, 0.001, 1000.0);
+  reader.number("odom_translation_sigma_per_m", slam.odom_translation_sigma_per_m, 0.0, 1.0);
+  reader.number("odom_rotation_sigma_per_rad", slam.odom_rotation_sigma_per_rad, 0.0, 1.0);
+  reader.number("odom_rotation_sigma_per_m", slam.odom_rotation_sigma_per_m, 0.0, 1.0);
   reader.number("map_period_s", options.map_period_s, 0.1, 60.0);
   reader.done();
   options.render.resolution_m = slam.resolution_m;
