@@ -18,7 +18,7 @@ DATA="$2"
 SLAM="$BUILD/tools/mobot-slam"
 TOOL="$BUILD/tests/bench/mobot_localization_intel"
 if [ ! -x "$SLAM" ]; then
-  echo "$SLAM is not built (cmake --build $BUILD --target mobot-slam); no map, no run" >&2
+  echo "$SLAM is not built (cmake --build $BUILD --target mobot_slam_tool); no map, no run" >&2
   exit 2
 fi
 if [ ! -x "$TOOL" ]; then
