@@ -70,6 +70,8 @@ class PoseEstimator {
   virtual bool converged() const { return covariance_converged(covariance()); }
   // A sample of the belief for display (at most max_count), empty for single-hypothesis filters.
   virtual std::vector<WeightedPose> particles(std::size_t /*max_count*/) const { return {}; }
+  // How many particles the belief holds (particles() may show fewer); 0 for the others.
+  virtual std::size_t particle_count() const { return 0; }
 };
 
 }  // namespace mobot::estimation

@@ -75,8 +75,8 @@ void EstimateStage::publish_particles(TickContext& context) {
   particles_schedule_.taken(context.now_s);
   std::vector<estimation::WeightedPose> particles = estimator_->particles(kMaxParticlesShown);
   if (particles.empty()) return;
-  const std::size_t shown = particles.size();
-  context.bus->particles.publish({context.now_s, std::move(particles), shown});
+  const std::size_t total = estimator_->particle_count();
+  context.bus->particles.publish({context.now_s, std::move(particles), total});
 }
 
 void EstimateStage::write(TickContext& context) {

@@ -37,6 +37,7 @@ class ParticleFilterEstimator final : public PoseEstimator {
   bool converged() const override { return filter_.converged(); }
   // Every k-th particle so that at most max_count come back, weights renormalised.
   std::vector<WeightedPose> particles(std::size_t max_count) const override;
+  std::size_t particle_count() const override { return filter_.particles().size(); }
 
   const ParticleFilter& filter() const { return filter_; }
   // The odometry the estimator integrated (its own odom frame, from where it was constructed).

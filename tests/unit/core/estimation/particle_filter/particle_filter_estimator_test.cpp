@@ -143,6 +143,9 @@ TEST(ParticleFilterEstimator, GlobalLocalizationSpreadsTheCloudOverTheMap) {
   EXPECT_GT(max_x, 9.0);
   EXPECT_TRUE(estimator.particles(0).empty());
   EXPECT_EQ(estimator.particles(100000).size(), estimator.filter().particles().size());
+  // The whole cloud's size, not the sample's: the particles topic's total.
+  EXPECT_EQ(estimator.particle_count(), estimator.filter().particles().size());
+  EXPECT_GT(estimator.particle_count(), sample.size());
 }
 
 TEST(ParticleFilterEstimator, BadInputsAreCountedAndChangeNothing) {
