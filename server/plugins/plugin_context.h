@@ -12,11 +12,12 @@ struct PluginContext {
   kinematics::RobotGeometry geometry;
   control::VelocityLimits limits;
   NavigationSection navigation;
+  double control_period_s = 0.02;  // one tick of the control loop: 1 / robot.control_rate_hz
 };
 
 inline PluginContext plugin_context(const Config& config,
                                     const kinematics::RobotGeometry& geometry) {
-  return {geometry, config.robot.limits, config.navigation};
+  return {geometry, config.robot.limits, config.navigation, 1.0 / config.robot.control_rate_hz};
 }
 
 }  // namespace mobot::server

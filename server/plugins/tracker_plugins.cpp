@@ -31,7 +31,8 @@ void read_dynamic_limits(OptionReader& reader, const PluginContext& context,
   reader.number("min_in_place_angular_radps", limits.min_in_place_angular_radps, 0.0, max_angular);
   reader.number("linear_accel_mps2", limits.linear_accel_mps2, 0.01, max_linear_accel);
   reader.number("angular_accel_radps2", limits.angular_accel_radps2, 0.01, max_angular_accel);
-  // One tick of the control loop (1 / robot.control_rate_hz: 5..200 Hz).
+  // One tick of the control loop: the loop's own period unless the section overrides it.
+  limits.control_period_s = context.control_period_s;
   reader.number("control_period_s", limits.control_period_s, 0.005, 0.2);
 }
 

@@ -84,6 +84,19 @@ TEST(TrackerPlugins, ASlowRobotCapsTheDefaults) {
   EXPECT_DOUBLE_EQ(limits.min_in_place_angular_radps, 0.3);
 }
 
+TEST(TrackerPlugins, TheControlPeriodIsTheLoopsUnlessTheSectionSetsIt) {
+  PluginContext fast = context();
+  fast.control_period_s = 0.01;  // robot.control_rate_hz: 100
+  EXPECT_DOUBLE_EQ(
+      limits_of<control::DwaTracker>(*dwa_plugin(YAML::Node(), fast)()).control_period_s, 0.01);
+  EXPECT_DOUBLE_EQ(
+      limits_of<control::VfhTracker>(*vfh_plugin(YAML::Node(), fast)()).control_period_s, 0.01);
+  EXPECT_DOUBLE_EQ(
+      limits_of<control::DwaTracker>(*dwa_plugin(YAML::Load("control_period_s: 0.05"), fast)())
+          .control_period_s,
+      0.05);
+}
+
 TEST(TrackerPlugins, ReadsEveryOption) {
   const auto dwa = dwa_plugin(YAML::Load(R"(
     max_linear_mps: 0.5
