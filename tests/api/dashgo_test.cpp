@@ -4,8 +4,10 @@
 // on the saved map, drive goals with DWA, recover from a kidnap, avoid the table top only the IR
 // ring sees, route around a keep-out zone. The robot starts without a map (sim.provide_map false).
 //
-// Not yet run green: the suite is disabled until the Dashgo profile's safety stages and the
-// particle filter are in (issue 10 is open); run it with --gtest_also_run_disabled_tests.
+// Not yet run green, so disabled (run it with --gtest_also_run_disabled_tests): the online SLAM
+// pose drifts along the office corridor with the odometry's scale error (0.23 m at its end, the
+// target is 0.10 m), and the later steps need the map it saves (BENCHMARKS.md, the Dashgo D1 end
+// to end).
 #include <fstream>
 #include <sstream>
 
@@ -73,6 +75,23 @@ class DISABLED_DashgoTest : public ServerSuite<DISABLED_DashgoTest> {
           operator_client().post("/api/v1/teleop", json{{"v", v}, {"w", w}, {"ttl_ms", 300}});
       if (reply.status != 200) return false;
       if (sample) sample();
+      std::this_thread::sleep_for(10ms);
+    }
+    return false;
+  }
+
+  // Teleop on the spot until the true heading is `heading_rad` (within 0.05 rad). False on time-out.
+  static bool turn_to(double heading_rad) {
+    const auto deadline = std::chrono::steady_clock::now() + 30s;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const double error = heading_rad - truth_pose().at("theta").get<double>();
+      const double wrapped = std::atan2(std::sin(error), std::cos(error));
+      if (std::abs(wrapped) < 0.05) return true;
+      const double w = std::clamp(1.5 * wrapped, -0.5, 0.5);
+      if (operator_client().post("/api/v1/teleop", json{{"v", 0.0}, {"w", w}, {"ttl_ms", 300}})
+              .status != 200) {
+        return false;
+      }
       std::this_thread::sleep_for(10ms);
     }
     return false;
@@ -204,6 +223,8 @@ TEST_F(DISABLED_DashgoTest, F_TheIrOnlyTableIsAvoided) {
   drive_to({2.6, 7.5}, nullptr);
   drive_to({2.6, 5.6}, nullptr);
   drive_to({1.2, 5.0}, nullptr);
+  // Facing the table (south), as the operator would drive at it.
+  ASSERT_TRUE(turn_to(-kPi / 2.0));
   const auto deadline = std::chrono::steady_clock::now() + 20s;
   while (std::chrono::steady_clock::now() < deadline) {
     operator_client().post("/api/v1/teleop", json{{"v", 0.2}, {"w", 0.0}, {"ttl_ms", 300}});
