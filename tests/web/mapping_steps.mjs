@@ -179,11 +179,15 @@ export async function mappingLocalizationZoneSteps(t) {
       await page.waitForSelector('[data-testid=mapping-overlay]', { state: 'visible', timeout: 5000 });
       const mode = await until('/robot to report mode mapping', async () => ((await api('GET', '/api/v1/robot')).mode === 'mapping' ? 'mapping' : null), 6000, 200).catch(() => null);
 
-      // While mapping, global localization is refused (or not offered).
-      const globalDisabled = await page.isDisabled('[data-testid=loc-global]');
-      if (!globalDisabled) {
-        await page.click('[data-testid=loc-global]');
-        await page.waitForSelector('[data-testid=loc-error]:has-text("mapping_active")', { state: 'visible', timeout: 6000 });
+      // While mapping, global localization is not offered: the button disables once the status
+      // reports the SLAM (the server would refuse it with mapping_active).
+      await page.waitForSelector('[data-testid=loc-global]:disabled', { timeout: 6000 });
+      const refusal = await api('POST', '/api/v1/localization/global').then(
+        () => 'accepted',
+        (error) => String(error.message),
+      );
+      if (!refusal.includes('409') || !refusal.includes('mapping_active')) {
+        throw new Error(`global localization while mapping: ${refusal}`);
       }
 
       // Drive: turn in place, then forward; the tiles come in and grow.
