@@ -6,8 +6,7 @@ namespace mobot::server {
 
 CostmapOptions read_costmap_options(const YAML::Node& root, double inscribed_radius_m) {
   CostmapOptions options;
-  const YAML::Node section = root && root["costmaps"] ? YAML::Node(root["costmaps"]) : YAML::Node();
-  OptionReader reader(section, "costmaps");
+  OptionReader reader(config_section(root, "costmaps"), "costmaps");
   double inflation_m = options.global.inflation_margin_m;
   double scaling = options.global.cost_scaling_per_m;
   CostmapStageOptions& local = options.local;

@@ -79,4 +79,10 @@ class OptionReader {
   std::set<std::string> read_;
 };
 
+// The config's top-level section `name` (slam, costmaps, ir_safety, ...), or an empty node when
+// the config has none: every key of such a section is optional.
+inline YAML::Node config_section(const YAML::Node& root, const char* name) {
+  return root && root[name] ? YAML::Node(root[name]) : YAML::Node();
+}
+
 }  // namespace mobot::server

@@ -3,16 +3,8 @@
 #include "server/plugins/option_reader.h"
 
 namespace mobot::server {
-namespace {
-
-YAML::Node section_of(const YAML::Node& root, const char* name) {
-  return root && root[name] ? YAML::Node(root[name]) : YAML::Node();
-}
-
-}  // namespace
-
 std::optional<safety::IrSafetyOptions> read_ir_safety_options(const YAML::Node& root) {
-  OptionReader reader(section_of(root, "ir_safety"), "ir_safety");
+  OptionReader reader(config_section(root, "ir_safety"), "ir_safety");
   bool enabled = false;
   safety::IrSafetyOptions options;
   reader.flag("enabled", enabled);
@@ -25,7 +17,7 @@ std::optional<safety::IrSafetyOptions> read_ir_safety_options(const YAML::Node& 
 }
 
 std::optional<safety::SonarEmergencyOptions> read_sonar_emergency_options(const YAML::Node& root) {
-  OptionReader reader(section_of(root, "sonar_emergency"), "sonar_emergency");
+  OptionReader reader(config_section(root, "sonar_emergency"), "sonar_emergency");
   bool enabled = false;
   safety::SonarEmergencyOptions options;
   reader.flag("enabled", enabled);

@@ -6,8 +6,7 @@ namespace mobot::server {
 
 SlamWorkerOptions read_slam_options(const YAML::Node& root) {
   SlamWorkerOptions options;
-  const YAML::Node section = root && root["slam"] ? YAML::Node(root["slam"]) : YAML::Node();
-  OptionReader reader(section, "slam");
+  OptionReader reader(config_section(root, "slam"), "slam");
   slam::GraphSlamOptions& slam = options.slam;
   reader.number("max_range_m", slam.max_range_m, 1.0, 100.0);
   reader.number("min_travel_m", slam.min_travel_m, 0.0, 5.0);

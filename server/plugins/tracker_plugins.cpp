@@ -36,6 +36,15 @@ void read_dynamic_limits(OptionReader& reader, const PluginContext& context,
   reader.number("control_period_s", limits.control_period_s, 0.005, 0.2);
 }
 
+// What DWA and VFH take alike: the navigation section's goal tolerances and the dynamic limits.
+template <class Options>
+void read_local_planner_common(OptionReader& reader, const PluginContext& context,
+                               Options& options) {
+  options.goal_tolerance_m = context.navigation.goal_tolerance_m;
+  options.goal_tolerance_rad = context.navigation.goal_tolerance_rad;
+  read_dynamic_limits(reader, context, options.limits);
+}
+
 // Builds one instance now, so a combination the ranges cannot catch (a minimum in-place rate
 // above the maximum rate) is a config error naming the section, not a failure at the first goal.
 template <class Tracker, class Options>
@@ -75,10 +84,8 @@ Registry<control::PathTracker>::Maker lyapunov_plugin(const YAML::Node& section,
 Registry<control::PathTracker>::Maker dwa_plugin(const YAML::Node& section,
                                                  const PluginContext& context) {
   control::DwaOptions options;
-  options.goal_tolerance_m = context.navigation.goal_tolerance_m;
-  options.goal_tolerance_rad = context.navigation.goal_tolerance_rad;
   OptionReader reader(section, "controllers.dwa");
-  read_dynamic_limits(reader, context, options.limits);
+  read_local_planner_common(reader, context, options);
   reader.number("sim_time_s", options.sim_time_s, 0.1, 5.0);
   reader.number("sim_granularity_m", options.sim_granularity_m, 0.005, 0.5);
   reader.number("angular_sim_granularity_rad", options.angular_sim_granularity_rad, 0.01, 1.0);
@@ -98,10 +105,8 @@ Registry<control::PathTracker>::Maker dwa_plugin(const YAML::Node& section,
 Registry<control::PathTracker>::Maker vfh_plugin(const YAML::Node& section,
                                                  const PluginContext& context) {
   control::VfhOptions options;
-  options.goal_tolerance_m = context.navigation.goal_tolerance_m;
-  options.goal_tolerance_rad = context.navigation.goal_tolerance_rad;
   OptionReader reader(section, "controllers.vfh");
-  read_dynamic_limits(reader, context, options.limits);
+  read_local_planner_common(reader, context, options);
   reader.integer("sector_count", options.sector_count, 8, 360);
   reader.number("window_radius_m", options.window_radius_m, 0.2, 10.0);
   reader.number("unknown_certainty", options.unknown_certainty, 0.0, 1.0);
