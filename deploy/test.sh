@@ -27,9 +27,11 @@ build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
 build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
 unset TSAN_OPTIONS
 
-echo "== reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3)"
+echo "== reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3, E5)"
 build/tests/bench/mobot_umbmark
 build/tests/bench/mobot_fusion_table
+echo "== online SLAM on the simulated Dashgo office tour (docs/algorithms.md E5)"
+build/tests/bench/mobot_slam_office_tour --seeds 2
 
 echo "== dashboard unit tests"
 (cd web && npm test --silent)

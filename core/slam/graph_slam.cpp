@@ -27,6 +27,7 @@ void check_options(const GraphSlamOptions& o) {
                            o.resolution_m,
                            o.match_field_sigma_m,
                            o.local_map_chain_distance_m,
+                           o.local_map_spacing_m,
                            o.local_search_linear_m,
                            o.local_search_angular_rad,
                            o.angular_step_rad,
@@ -162,10 +163,14 @@ geometry::Pose2D GraphSlam::add_scan(const msgs::LaserScan& scan,
   if (!current.match_points.empty()) {
     std::vector<SubmapScan> members;
     const double newest_chain = s.nodes.back().chain_distance_m;
-    for (std::size_t k = 0; k < static_cast<std::size_t>(o.local_map_nodes) && k < s.nodes.size();
-         ++k) {
-      const std::size_t node = s.nodes.size() - 1 - k;
-      if (newest_chain - s.nodes[node].chain_distance_m > o.local_map_chain_distance_m) break;
+    double last_member_chain = newest_chain + 2.0 * o.local_map_spacing_m;
+    for (std::size_t node = s.nodes.size(); node-- > 0 &&
+                                            members.size() <
+                                                static_cast<std::size_t>(o.local_map_nodes);) {
+      const double chain = s.nodes[node].chain_distance_m;
+      if (newest_chain - chain > o.local_map_chain_distance_m) break;
+      if (last_member_chain - chain < o.local_map_spacing_m) continue;
+      last_member_chain = chain;
       members.push_back({s.graph.pose(node), s.nodes[node].scan.points_in_base});
     }
     SubmapOptions submap_options{o.resolution_m, o.match_field_sigma_m};
@@ -186,7 +191,7 @@ geometry::Pose2D GraphSlam::add_scan(const msgs::LaserScan& scan,
         refine.translation_weight = o.refine_translation_weight;
         refine.rotation_weight = o.refine_rotation_weight;
         const RefinedPose refined =
-            refine_scan_pose(local.field(), current.match_points, match->pose, refine);
+            refine_scan_pose(local.field(), current.match_points, match->pose, predicted, refine);
         if (refined.score >= o.local_min_score) {
           corrected = refined.pose;
           match_covariance = match->covariance;

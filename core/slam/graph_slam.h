@@ -41,6 +41,10 @@ struct GraphSlamOptions {
   int local_map_nodes = 25;
   // ... that lie within this travelled distance of the newest (slam_toolbox's scan buffer 10 m).
   double local_map_chain_distance_m = 10.0;
+  // ... and lie at least this far apart along the chain (0: every node). Spacing them out makes
+  // the local map span metres of travel instead of the last few node steps, so heading and
+  // position are matched against geometry placed before the recent drift.
+  double local_map_spacing_m = 0.0;
   // Search window of the real-time correlative matcher around the odometry prediction.
   // Cartographer's real-time window is 0.1 m / 20 deg; odometry with 3 % step noise and a 1 m step
   // needs +-0.1 m (3 sigma), so twice that.

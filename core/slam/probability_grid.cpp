@@ -99,10 +99,26 @@ void ProbabilityGrid::smear_points(std::span<const geometry::Point2D> points_in_
   }
 }
 
+namespace {
+
+// Distance of `point` from the line through `a` and `b` (infinite when they coincide).
+double distance_to_line(const geometry::Point2D& point, const geometry::Point2D& a,
+                        const geometry::Point2D& b) {
+  const double ex = b.x - a.x, ey = b.y - a.y;
+  const double length = std::hypot(ex, ey);
+  if (!(length > 0.0)) return std::numeric_limits<double>::infinity();
+  return std::abs(ex * (point.y - a.y) - ey * (point.x - a.x)) / length;
+}
+
+}  // namespace
+
 void ProbabilityGrid::smear_polyline(std::span<const geometry::Point2D> points_in_map,
-                                     double sigma_m, double max_gap_m) {
-  if (!(sigma_m > 0.0) || !std::isfinite(sigma_m) || !(max_gap_m >= 0.0)) {
-    throw std::invalid_argument("ProbabilityGrid::smear_polyline: sigma > 0, gap >= 0");
+                                     double sigma_m, double max_gap_m,
+                                     double max_collinear_gap_m, double collinear_tolerance_m) {
+  if (!(sigma_m > 0.0) || !std::isfinite(sigma_m) || !(max_gap_m >= 0.0) ||
+      !(max_collinear_gap_m >= 0.0) || !(collinear_tolerance_m >= 0.0)) {
+    throw std::invalid_argument(
+        "ProbabilityGrid::smear_polyline: sigma > 0, gaps and tolerance >= 0");
   }
   if (cells_.empty()) return;
   const double res = limits_.resolution_m;
@@ -143,14 +159,25 @@ void ProbabilityGrid::smear_polyline(std::span<const geometry::Point2D> points_i
     }
   };
   const double max_gap2 = max_gap_m * max_gap_m;
-  for (std::size_t i = 0; i < points_in_map.size(); ++i) {
+  const double max_collinear_gap2 = max_collinear_gap_m * max_collinear_gap_m;
+  const std::size_t n = points_in_map.size();
+  auto finite = [&](std::size_t k) {
+    return std::isfinite(points_in_map[k].x) && std::isfinite(points_in_map[k].y);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
     const auto& p = points_in_map[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    if (!finite(i)) continue;
     bool joined = false;
-    if (i + 1 < points_in_map.size()) {
+    if (i + 1 < n && finite(i + 1)) {
       const auto& q = points_in_map[i + 1];
       const double gx = q.x - p.x, gy = q.y - p.y;
-      if (std::isfinite(q.x) && std::isfinite(q.y) && gx * gx + gy * gy <= max_gap2) {
+      const double gap2 = gx * gx + gy * gy;
+      const bool same_surface =
+          gap2 <= max_gap2 ||
+          (gap2 <= max_collinear_gap2 && i >= 1 && i + 2 < n && finite(i - 1) && finite(i + 2) &&
+           distance_to_line(q, points_in_map[i - 1], p) <= collinear_tolerance_m &&
+           distance_to_line(p, points_in_map[i + 2], q) <= collinear_tolerance_m);
+      if (same_surface) {
         smear_segment(p, q);
         joined = true;
       }

@@ -59,8 +59,17 @@ class ProbabilityGrid {
   // surface) are joined and the distance is to the segment between them: a wall seen with beams
   // 14 cm apart (1 deg at 8 m) becomes one even ridge instead of a row of bumps that would pull a
   // matched scan's points into the dips between them.
+  //
+  // A wall seen at a grazing angle is sampled far more sparsely (beams 0.3 m apart at 6 m along a
+  // wall 1 m away), and where those samples fall depends on where the sensor stood: left as bumps
+  // they pull a scan taken further on back towards that spot (a corridor's map then lags the
+  // robot). So consecutive points up to `max_collinear_gap_m` apart are joined too when each lies
+  // within `collinear_tolerance_m` of the line through the other and its outer neighbour: the
+  // same straight surface. A beam passing a door jamb into the room behind is not collinear.
+  // Throws std::invalid_argument on a non-positive sigma or negative gaps or tolerance.
   void smear_polyline(std::span<const geometry::Point2D> points_in_map, double sigma_m,
-                      double max_gap_m);
+                      double max_gap_m, double max_collinear_gap_m = 0.0,
+                      double collinear_tolerance_m = 0.0);
 
   // The field value at a map point by bicubic (Catmull-Rom) interpolation of the cell centres, and
   // its gradient in 1/m: what Gauss-Newton needs (docs/algorithms.md E5, the refiner).

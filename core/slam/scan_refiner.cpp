@@ -57,6 +57,14 @@ RefinedPose refine_scan_pose(const ProbabilityGrid& field,
                              std::span<const geometry::Point2D> points_in_base,
                              const geometry::Pose2D& initial_pose,
                              const ScanRefinerOptions& options) {
+  return refine_scan_pose(field, points_in_base, initial_pose, initial_pose, options);
+}
+
+RefinedPose refine_scan_pose(const ProbabilityGrid& field,
+                             std::span<const geometry::Point2D> points_in_base,
+                             const geometry::Pose2D& initial_pose,
+                             const geometry::Pose2D& prior_pose,
+                             const ScanRefinerOptions& options) {
   if (options.max_iterations < 0 || !std::isfinite(options.translation_weight) ||
       !std::isfinite(options.rotation_weight) || !std::isfinite(options.min_step) ||
       options.translation_weight < 0.0 || options.rotation_weight < 0.0 || options.min_step < 0.0) {
@@ -64,10 +72,16 @@ RefinedPose refine_scan_pose(const ProbabilityGrid& field,
   }
   RefinedPose out;
   out.pose = initial_pose;
-  if (points_in_base.empty() || field.empty() || !geometry::is_finite(initial_pose)) return out;
+  if (points_in_base.empty() || field.empty() || !geometry::is_finite(initial_pose) ||
+      !geometry::is_finite(prior_pose)) {
+    return out;
+  }
 
-  const Eigen::Vector3d x0(initial_pose.x, initial_pose.y, initial_pose.theta);
-  Eigen::Vector3d x = x0;
+  // The prior's heading is unwrapped next to the start's, so the pull never goes the long way.
+  const Eigen::Vector3d x0(
+      prior_pose.x, prior_pose.y,
+      initial_pose.theta + geometry::wrap_angle(prior_pose.theta - initial_pose.theta));
+  Eigen::Vector3d x(initial_pose.x, initial_pose.y, initial_pose.theta);
   Evaluation current = evaluate(field, points_in_base, x, x0, options, true);
   const double wt2 = options.translation_weight * options.translation_weight;
   const double wr2 = options.rotation_weight * options.rotation_weight;

@@ -38,5 +38,13 @@ RefinedPose refine_scan_pose(const ProbabilityGrid& field,
                              std::span<const geometry::Point2D> points_in_base,
                              const geometry::Pose2D& initial_pose,
                              const ScanRefinerOptions& options = {});
+// The same, starting from `initial_pose` but pulled towards `prior_pose` (Cartographer pulls
+// towards the motion prediction, not the correlative search's grid-quantised answer: along a
+// corridor the field barely constrains the axis, and the search's whole-cell offset would stay).
+RefinedPose refine_scan_pose(const ProbabilityGrid& field,
+                             std::span<const geometry::Point2D> points_in_base,
+                             const geometry::Pose2D& initial_pose,
+                             const geometry::Pose2D& prior_pose,
+                             const ScanRefinerOptions& options);
 
 }  // namespace mobot::slam

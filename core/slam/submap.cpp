@@ -11,6 +11,7 @@ namespace mobot::slam {
 Submap::Submap(std::span<const SubmapScan> scans, const SubmapOptions& options,
                const std::optional<MapBox>& region) {
   if (!(options.resolution_m > 0.0) || !(options.sigma_m > 0.0) || !(options.max_gap_m >= 0.0) ||
+      !(options.max_collinear_gap_m >= 0.0) || !(options.collinear_tolerance_m >= 0.0) ||
       !std::isfinite(options.resolution_m) || !std::isfinite(options.sigma_m)) {
     throw std::invalid_argument("SubmapOptions: resolution and sigma must be > 0");
   }
@@ -59,7 +60,8 @@ Submap::Submap(std::span<const SubmapScan> scans, const SubmapOptions& options,
   std::size_t begin = 0;
   for (const std::size_t end : scan_ends) {
     field_.smear_polyline(std::span<const geometry::Point2D>(points).subspan(begin, end - begin),
-                          options.sigma_m, options.max_gap_m);
+                          options.sigma_m, options.max_gap_m, options.max_collinear_gap_m,
+                          options.collinear_tolerance_m);
     begin = end;
   }
 }

@@ -31,6 +31,10 @@ struct SubmapOptions {
   // Consecutive returns of a scan closer than this are one surface and smeared as a segment.
   // 0: points only.
   double max_gap_m = 0.25;
+  // Sparser returns of one straight surface (a wall at a grazing angle) are joined up to this gap
+  // when their neighbours are collinear within the tolerance (ProbabilityGrid::smear_polyline).
+  double max_collinear_gap_m = 1.0;
+  double collinear_tolerance_m = 0.05;
 };
 
 // docs/algorithms.md E5: a local map of several scans (the recent chain for scan matching, or an

@@ -19,10 +19,16 @@ SlamWorkerOptions read_slam_options(const YAML::Node& root) {
   reader.number("odom_translation_sigma_per_m", slam.odom_translation_sigma_per_m, 0.0, 1.0);
   reader.number("odom_rotation_sigma_per_rad", slam.odom_rotation_sigma_per_rad, 0.0, 1.0);
   reader.number("odom_rotation_sigma_per_m", slam.odom_rotation_sigma_per_m, 0.0, 1.0);
+  reader.number("match_field_sigma_m", slam.match_field_sigma_m, 0.01, 0.5);
+  reader.number("local_map_spacing_m", slam.local_map_spacing_m, 0.0, 5.0);
   reader.number("map_period_s", options.map_period_s, 0.1, 60.0);
+  // The rendered map may use a shorter range than matching: far returns still fix the pose
+  // along a corridor, but drawn they smear its walls (0.5 % range noise).
+  double map_max_range_m = slam.max_range_m;
+  reader.number("map_max_range_m", map_max_range_m, 1.0, 100.0);
   reader.done();
   options.render.resolution_m = slam.resolution_m;
-  options.render.max_range_m = slam.max_range_m;
+  options.render.max_range_m = map_max_range_m;
   // The tile lattice of the map topic: 64 cells per tile.
   options.render.align_m = 64 * slam.resolution_m;
   return options;

@@ -58,7 +58,8 @@ double max_error(const std::vector<geometry::Pose2D>& a, const std::vector<geome
   return worst;
 }
 
-void run_loop(int beams, double fov_rad, const geometry::Pose2D& mount) {
+void run_loop(int beams, double fov_rad, const geometry::Pose2D& mount,
+              double local_map_spacing_m = 0.0) {
   const auto walls = testing::synthetic_room();
   const auto truth = loop_path();
   const auto odom = drifting_odometry(truth);
@@ -67,6 +68,7 @@ void run_loop(int beams, double fov_rad, const geometry::Pose2D& mount) {
   // lose against the odometry's prior on 0.2 m steps and the drift is only removed by closures.
   GraphSlamOptions options;
   options.match_covariance_scale = 0.1;
+  options.local_map_spacing_m = local_map_spacing_m;
   GraphSlam slam(options);
   slam.set_start_pose(truth[0]);
   std::vector<geometry::Pose2D> online;
@@ -93,6 +95,11 @@ void run_loop(int beams, double fov_rad, const geometry::Pose2D& mount) {
 
 TEST(GraphSlam, StaysOnTheTruthAroundASyntheticRoom360Beams) {
   run_loop(720, 2.0 * std::numbers::pi, {0.1, 0.0, 0.0});
+}
+
+// The local map made of nodes at least 0.5 m apart along the path (the Dashgo profile's setting).
+TEST(GraphSlam, StaysOnTheTruthWithALocalMapSpacedAlongThePath) {
+  run_loop(720, 2.0 * std::numbers::pi, {0.1, 0.0, 0.0}, 0.5);
 }
 
 // Known gap: with a 180 deg, 181-beam laser mounted 0.2 m ahead the synthetic loop ends 0.2 m off
@@ -158,6 +165,9 @@ TEST(GraphSlam, RejectsBadOptionsAndNonFiniteOdometry) {
   EXPECT_THROW(GraphSlam{options}, std::invalid_argument);
   options = {};
   options.min_travel_m = -1.0;
+  EXPECT_THROW(GraphSlam{options}, std::invalid_argument);
+  options = {};
+  options.local_map_spacing_m = -0.5;
   EXPECT_THROW(GraphSlam{options}, std::invalid_argument);
   GraphSlam slam;
   EXPECT_THROW(slam.add_scan({}, {std::nan(""), 0.0, 0.0}), std::invalid_argument);

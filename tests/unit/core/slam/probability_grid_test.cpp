@@ -38,6 +38,43 @@ TEST(ProbabilityGrid, SmearIsOneOnThePointAndDecaysWithSigma) {
   EXPECT_LE(grid.at(21, 20), 1.0F);
 }
 
+// A wall seen at a grazing angle: returns 0.5 m apart on one line. Joined they form an even ridge;
+// as separate bumps the field between them would be empty.
+TEST(ProbabilityGrid, SparseCollinearReturnsAreJoinedIntoOneRidge) {
+  GridLimits limits;
+  limits.width = 60;
+  limits.height = 40;
+  const std::vector<geometry::Point2D> wall = {
+      {0.225, 1.025}, {0.725, 1.025}, {1.225, 1.025}, {1.725, 1.025}, {2.225, 1.025}};
+  ProbabilityGrid joined(limits);
+  joined.smear_polyline(wall, 0.05, 0.25, 1.0, 0.05);
+  ProbabilityGrid bumps(limits);
+  bumps.smear_polyline(wall, 0.05, 0.25);
+  // Cell 19 is midway between the second and third returns; 29 between the third and fourth.
+  EXPECT_NEAR(joined.at(19, 20), 1.0, 0.01);
+  EXPECT_NEAR(joined.at(29, 20), 1.0, 0.01);
+  EXPECT_LT(bumps.at(19, 20), 0.01F);
+  // The outer pairs have no outer neighbour to confirm the line: left as points.
+  EXPECT_LT(joined.at(9, 20), 0.01F);
+}
+
+// A beam passing a door jamb into the room behind: consecutive returns within the gap but not on
+// one line stay apart.
+TEST(ProbabilityGrid, ReturnsOffTheLineAreNotJoined) {
+  GridLimits limits;
+  limits.width = 80;
+  limits.height = 40;
+  const std::vector<geometry::Point2D> jamb = {{0.225, 1.025}, {0.725, 1.025}, {1.225, 1.425},
+                                               {1.725, 1.425}, {2.225, 1.425}, {2.725, 1.425}};
+  ProbabilityGrid grid(limits);
+  grid.smear_polyline(jamb, 0.05, 0.25, 1.0, 0.05);
+  EXPECT_LT(grid.at(19, 24), 0.05F) << "the segment across the jamb was drawn";
+  // Beyond the jamb the room's wall is one ridge once a pair has a collinear return on each side.
+  EXPECT_NEAR(grid.at(39, 28), 1.0, 0.01);
+  EXPECT_THROW(grid.smear_polyline(jamb, 0.05, 0.25, -1.0, 0.05), std::invalid_argument);
+  EXPECT_THROW(grid.smear_polyline(jamb, 0.05, 0.25, 1.0, -0.05), std::invalid_argument);
+}
+
 TEST(ProbabilityGrid, SkipsNonFinitePointsAndRejectsBadSigma) {
   GridLimits limits;
   limits.width = 10;

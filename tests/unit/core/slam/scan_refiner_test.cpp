@@ -50,6 +50,35 @@ TEST(ScanRefiner, StrongPriorsHoldThePoseAtTheStart) {
   EXPECT_NEAR(refined.pose.theta, start.theta, 0.002);
 }
 
+// Two parallel walls and nothing else: the corridor's axis is free. The refinement starts from the
+// correlative search's whole-cell answer but is pulled towards the motion prediction along the
+// axis, where the field cannot say anything; across it the walls decide.
+TEST(ScanRefiner, AlongAFeaturelessCorridorThePoseGoesToThePrior) {
+  std::vector<geometry::Point2D> walls_in_map;
+  for (double x = -10.0; x <= 10.0; x += 0.02) {
+    walls_in_map.push_back({x, -1.0});
+    walls_in_map.push_back({x, 1.0});
+  }
+  const std::vector<SubmapScan> members{{{0.0, 0.0, 0.0}, walls_in_map}};
+  const Submap submap(members, {});
+  std::vector<geometry::Point2D> scan;
+  for (double x = -3.0; x <= 3.0; x += 0.05) {
+    scan.push_back({x, -1.0});
+    scan.push_back({x, 1.0});
+  }
+  const geometry::Pose2D truth{0.0, 0.0, 0.0};
+  const geometry::Pose2D correlative{0.05, 0.02, 0.0};
+  const geometry::Pose2D prediction{0.012, 0.0, 0.0};
+  const RefinedPose refined =
+      refine_scan_pose(submap.field(), scan, correlative, prediction, ScanRefinerOptions{});
+  EXPECT_NEAR(refined.pose.x, prediction.x, 0.005);
+  EXPECT_NEAR(refined.pose.y, truth.y, 0.005);
+  EXPECT_NEAR(refined.pose.theta, truth.theta, 0.002);
+  const RefinedPose without_prior =
+      refine_scan_pose(submap.field(), scan, correlative, ScanRefinerOptions{});
+  EXPECT_NEAR(without_prior.pose.x, correlative.x, 0.005);
+}
+
 TEST(ScanRefiner, ReturnsTheStartForNothingToMatchAndRejectsBadOptions) {
   const geometry::Pose2D start{1.0, 2.0, 0.5};
   const RefinedPose empty = refine_scan_pose(ProbabilityGrid{}, {}, start);

@@ -43,6 +43,8 @@ slam:
   odom_translation_sigma_per_m: 0.05
   odom_rotation_sigma_per_rad: 0.04
   odom_rotation_sigma_per_m: 0.02
+  match_field_sigma_m: 0.04
+  local_map_spacing_m: 0.5
   map_period_s: 2.0
 )"));
   EXPECT_EQ(options.slam.max_range_m, 12.0);
@@ -56,10 +58,23 @@ slam:
   EXPECT_EQ(options.slam.odom_translation_sigma_per_m, 0.05);
   EXPECT_EQ(options.slam.odom_rotation_sigma_per_rad, 0.04);
   EXPECT_EQ(options.slam.odom_rotation_sigma_per_m, 0.02);
+  EXPECT_EQ(options.slam.match_field_sigma_m, 0.04);
+  EXPECT_EQ(options.slam.local_map_spacing_m, 0.5);
   EXPECT_EQ(options.map_period_s, 2.0);
   EXPECT_EQ(options.render.resolution_m, 0.1);
   EXPECT_EQ(options.render.max_range_m, 12.0);
   EXPECT_DOUBLE_EQ(options.render.align_m, 6.4);
+}
+
+TEST(SlamOptions, TheMapMayBeDrawnWithAShorterRangeThanTheMatcherUses) {
+  const SlamWorkerOptions options =
+      read_slam_options(YAML::Load("slam: {max_range_m: 15.5, map_max_range_m: 8.0}"));
+  EXPECT_EQ(options.slam.max_range_m, 15.5);
+  EXPECT_EQ(options.render.max_range_m, 8.0);
+  EXPECT_NE(error_of("slam: {map_max_range_m: 0}").find("slam.map_max_range_m"),
+            std::string::npos);
+  EXPECT_NE(error_of("slam: {local_map_spacing_m: -1}").find("slam.local_map_spacing_m"),
+            std::string::npos);
 }
 
 TEST(SlamOptions, ABadValueIsRefusedWithItsKey) {

@@ -1,0 +1,280 @@
+// The online SLAM of a mapping session on the simulated Dashgo D1 in the office world, without the
+// server: the same tour the API test drives by teleop (along the corridor east, back, down the
+// north-south corridor, back to the start), the simulator's noisy and biased odometry and lidar at
+// the runtime's rates (control 50 Hz, laser 7 Hz), the graph SLAM with the config's `slam` options.
+// Every control tick compares the pose the runtime would report (map -> odom correction of the
+// newest matched scan composed with dead reckoning) with the simulator's truth.
+//
+// Prints the worst and RMS position error over the tour, the final error, the nodes and loop
+// closures, and the share of the rendered map's occupied cells within 0.10 m of a wall of the world.
+// Exit status 0 when, on every seed, the worst error is under --max-error and the wall share at
+// least 95 %; 1 otherwise; 2 on bad arguments.
+#include <CLI/CLI.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/estimation/wheel_odometry.h"
+#include "core/mapping/occupancy_grid.h"
+#include "core/slam/graph_slam.h"
+#include "drivers/sim/robot_profile.h"
+#include "drivers/sim/simulator.h"
+#include "drivers/sim/world.h"
+#include "server/plugins/slam_options.h"
+
+namespace {
+
+using mobot::geometry::Point2D;
+using mobot::geometry::Pose2D;
+namespace mapping = mobot::mapping;
+namespace sim = mobot::sim;
+namespace slam = mobot::slam;
+
+constexpr double kControlRate_hz = 50.0;
+constexpr double kDt_s = 1.0 / kControlRate_hz;
+constexpr double kLaserRate_hz = 7.0;
+constexpr double kPi = std::numbers::pi;
+
+// The API test's teleop tour (tests/api/dashgo_test.cpp), driven on the true pose as an operator
+// watching the robot would: turn on the spot, then drive at up to 0.3 m/s.
+const std::vector<Point2D> kTour = {{6.0, 7.5},  {12.0, 7.5}, {17.5, 7.5}, {10.0, 7.6},
+                                    {10.0, 4.0}, {10.0, 1.5}, {10.0, 7.4}, {2.5, 7.5}};
+
+mobot::msgs::Twist teleop_towards(const Pose2D& truth, const Point2D& target) {
+  const double dx = target.x - truth.x;
+  const double dy = target.y - truth.y;
+  const double heading = std::atan2(dy, dx) - truth.theta;
+  const double error = std::atan2(std::sin(heading), std::cos(heading));
+  const double w = std::clamp(1.5 * error, -0.5, 0.5);
+  const double v = std::abs(error) > 0.4 ? 0.0 : std::min(0.3, 0.6 * std::hypot(dx, dy));
+  return {v, w};
+}
+
+// Distance from each cell centre to the nearest occupied cell of `walls`, capped at `cap_m`.
+bool near_wall(const mapping::OccupancyGrid& walls, Point2D point, double within_m) {
+  const int reach = static_cast<int>(std::ceil(within_m / walls.resolution_m()));
+  const mapping::CellIndex centre = walls.cell_at_unchecked(point);
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const mapping::CellIndex cell{centre.x + dx, centre.y + dy};
+      if (!walls.contains(cell) || !walls.is_occupied(cell)) continue;
+      const Point2D c = walls.cell_center(cell);
+      if (std::hypot(c.x - point.x, c.y - point.y) <= within_m + 0.5 * walls.resolution_m()) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+double wall_share(const mapping::OccupancyGrid& map, const mapping::OccupancyGrid& walls) {
+  int occupied = 0;
+  int near = 0;
+  for (int y = 0; y < map.height(); ++y) {
+    for (int x = 0; x < map.width(); ++x) {
+      if (!map.is_occupied({x, y})) continue;
+      ++occupied;
+      near += near_wall(walls, map.cell_center({x, y}), 0.10) ? 1 : 0;
+    }
+  }
+  return occupied > 0 ? static_cast<double>(near) / occupied : 0.0;
+}
+
+struct TourResult {
+  double worst_m = 0.0;
+  double rms_m = 0.0;
+  double final_m = 0.0;
+  double odometry_final_m = 0.0;
+  double wall_share = 0.0;
+  double slam_s = 0.0;
+  double tour_s = 0.0;
+  bool completed = false;
+  int collisions = 0;
+  slam::SlamStats stats;
+};
+
+TourResult run_tour(const sim::World& world, const mobot::server::SlamWorkerOptions& options,
+                    std::uint64_t seed, std::FILE* trace) {
+  const sim::RobotProfile profile = sim::dashgo_d1_profile();
+  sim::Simulator robot(world, profile, seed);
+  mobot::estimation::WheelOdometry odometry(
+      {profile.wheel_radius_m, profile.wheel_radius_m, profile.track_m,
+       static_cast<int>(profile.ticks_per_wheel_rev)},
+      world.start);
+  odometry.update(robot.read_encoders());
+  slam::GraphSlam mapper(options.slam);
+  mapper.set_start_pose(world.start);
+
+  TourResult result;
+  double sum_sq = 0.0;
+  int samples = 0;
+  double next_scan_s = 0.0;
+  std::size_t waypoint = 0;
+  const double limit_s = 900.0;
+  while (waypoint < kTour.size() && robot.time_s() < limit_s) {
+    const Pose2D truth = robot.true_pose();
+    if (std::hypot(kTour[waypoint].x - truth.x, kTour[waypoint].y - truth.y) < 0.15) {
+      ++waypoint;
+      continue;
+    }
+    robot.set_command(teleop_towards(truth, kTour[waypoint]));
+    robot.step(kDt_s);
+    const Pose2D odom = odometry.update(robot.read_encoders()).pose;
+    if (robot.time_s() >= next_scan_s) {
+      next_scan_s += 1.0 / kLaserRate_hz;
+      const auto started = std::chrono::steady_clock::now();
+      mapper.add_scan(robot.read_laser(), odom);
+      result.slam_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      if (trace != nullptr) {
+        const Pose2D e = mapper.pose();
+        const Pose2D truth_now = robot.true_pose();
+        std::fprintf(trace, "%llu %.3f %.4f %.4f %.5f %.4f %.4f %.5f %zu %zu\n",
+                     static_cast<unsigned long long>(seed), robot.time_s(), truth_now.x, truth_now.y,
+                     truth_now.theta, e.x, e.y, e.theta, mapper.stats().nodes,
+                     mapper.stats().loop_closures);
+      }
+    }
+    const Pose2D estimate = mobot::geometry::compose(mapper.map_from_odom(), odom);
+    const Pose2D now = robot.true_pose();
+    const double error_m = std::hypot(estimate.x - now.x, estimate.y - now.y);
+    result.worst_m = std::max(result.worst_m, error_m);
+    sum_sq += error_m * error_m;
+    ++samples;
+    result.final_m = error_m;
+    result.odometry_final_m = std::hypot(odom.x - now.x, odom.y - now.y);
+  }
+  result.completed = waypoint == kTour.size();
+  result.tour_s = robot.time_s();
+  result.collisions = robot.collision_count();
+  result.rms_m = samples > 0 ? std::sqrt(sum_sq / samples) : 0.0;
+  result.stats = mapper.stats();
+  result.wall_share = wall_share(mapper.render_map(options.render), world.floor);
+  return result;
+}
+
+// --set name=value: a GraphSlamOptions field by its name, for trying values without a config edit.
+bool set_option(slam::GraphSlamOptions& o, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string name = assignment.substr(0, eq);
+  const double value = std::stod(assignment.substr(eq + 1));
+  struct Real {
+    const char* name;
+    double slam::GraphSlamOptions::*field;
+  };
+  struct Count {
+    const char* name;
+    int slam::GraphSlamOptions::*field;
+  };
+  using O = slam::GraphSlamOptions;
+  static const Real reals[] = {
+      {"max_range_m", &O::max_range_m},
+      {"voxel_size_m", &O::voxel_size_m},
+      {"min_travel_m", &O::min_travel_m},
+      {"min_rotation_rad", &O::min_rotation_rad},
+      {"match_field_sigma_m", &O::match_field_sigma_m},
+      {"local_map_chain_distance_m", &O::local_map_chain_distance_m},
+      {"local_map_spacing_m", &O::local_map_spacing_m},
+      {"local_search_linear_m", &O::local_search_linear_m},
+      {"local_search_angular_rad", &O::local_search_angular_rad},
+      {"local_min_score", &O::local_min_score},
+      {"refine_translation_weight", &O::refine_translation_weight},
+      {"refine_rotation_weight", &O::refine_rotation_weight},
+      {"odom_translation_sigma_per_m", &O::odom_translation_sigma_per_m},
+      {"odom_rotation_sigma_per_rad", &O::odom_rotation_sigma_per_rad},
+      {"odom_rotation_sigma_per_m", &O::odom_rotation_sigma_per_m},
+      {"odom_min_sigma_m", &O::odom_min_sigma_m},
+      {"odom_min_sigma_rad", &O::odom_min_sigma_rad},
+      {"loop_search_radius_m", &O::loop_search_radius_m},
+      {"loop_min_score", &O::loop_min_score},
+      {"loop_covariance_scale", &O::loop_covariance_scale},
+      {"match_covariance_scale", &O::match_covariance_scale},
+  };
+  static const Count counts[] = {
+      {"local_map_nodes", &O::local_map_nodes},
+      {"loop_min_node_gap", &O::loop_min_node_gap},
+      {"loop_submap_half_nodes", &O::loop_submap_half_nodes},
+      {"optimize_every_n_nodes", &O::optimize_every_n_nodes},
+      {"loop_attempt_every_n_nodes", &O::loop_attempt_every_n_nodes},
+  };
+  for (const Real& r : reals) {
+    if (name == r.name) {
+      o.*r.field = value;
+      return true;
+    }
+  }
+  for (const Count& c : counts) {
+    if (name == c.name) {
+      o.*c.field = static_cast<int>(value);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Online graph SLAM on the simulated Dashgo office tour, against the truth"};
+  std::string world_path = std::string(MOBOT_SOURCE_ROOT) + "/drivers/sim/worlds/office/world.yaml";
+  std::string config_path = std::string(MOBOT_SOURCE_ROOT) + "/deploy/config/dashgo_d1.yaml";
+  int seeds = 3;
+  std::uint64_t first_seed = 1;
+  double max_error_m = 0.10;
+  app.add_option("--world", world_path, "world YAML");
+  app.add_option("--config", config_path, "mobotd config whose slam section is used");
+  app.add_option("--seeds", seeds, "how many seeds")->check(CLI::Range(1, 100));
+  app.add_option("--first-seed", first_seed, "the first seed");
+  app.add_option("--max-error", max_error_m, "worst position error allowed (m)");
+  std::string trace_path;
+  app.add_option("--trace", trace_path,
+                 "write 'seed t truth_x truth_y truth_theta slam_x slam_y slam_theta nodes loops' "
+                 "per scan to this file");
+  std::vector<std::string> assignments;
+  app.add_option("--set", assignments, "name=value of a GraphSlamOptions field (repeatable)");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const sim::World world = sim::load_world(world_path);
+    mobot::server::SlamWorkerOptions options =
+        mobot::server::read_slam_options(YAML::LoadFile(config_path));
+    for (const std::string& assignment : assignments) {
+      if (!set_option(options.slam, assignment)) {
+        std::fprintf(stderr, "mobot_slam_office_tour: --set %s: no such option\n",
+                     assignment.c_str());
+        return 2;
+      }
+    }
+    std::FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
+    if (!trace_path.empty() && trace == nullptr) {
+      std::fprintf(stderr, "mobot_slam_office_tour: cannot write %s\n", trace_path.c_str());
+      return 2;
+    }
+    bool pass = true;
+    std::printf("seed  worst_m  rms_m  final_m  odom_final_m  nodes  loops  walls  slam_s  tour_s\n");
+    for (int k = 0; k < seeds; ++k) {
+      const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
+      const TourResult r = run_tour(world, options, seed, trace);
+      std::printf("%4llu  %7.3f  %5.3f  %7.3f  %12.3f  %5zu  %5zu  %5.3f  %6.2f  %6.1f%s\n",
+                  static_cast<unsigned long long>(seed), r.worst_m, r.rms_m, r.final_m,
+                  r.odometry_final_m, r.stats.nodes, r.stats.loop_closures, r.wall_share, r.slam_s, r.tour_s,
+                  r.completed ? "" : "  (tour not completed)");
+      pass = pass && r.completed && r.collisions == 0 && r.worst_m < max_error_m &&
+             r.wall_share >= 0.95;
+    }
+    if (trace != nullptr) std::fclose(trace);
+    std::printf("%s\n", pass ? "PASS" : "FAIL");
+    return pass ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mobot_slam_office_tour: %s\n", e.what());
+    return 2;
+  }
+}
