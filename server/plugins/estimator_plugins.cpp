@@ -70,10 +70,8 @@ Registry<estimation::PoseEstimator>::Maker odometry_plugin(const YAML::Node& sec
   return [options] { return std::make_unique<estimation::EkfPoseEstimator>(options); };
 }
 
-Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::Node& section,
-                                                                  const PluginContext&) {
-  estimation::ParticleFilterEstimatorOptions options;
-  estimation::ParticleFilterOptions& filter = options.filter;
+estimation::ParticleFilterOptions read_particle_filter_options(const YAML::Node& section) {
+  estimation::ParticleFilterOptions filter;
   OptionReader reader(section, "estimators.particle_filter");
   int min_particles = static_cast<int>(filter.kld.min_particles);
   int max_particles = static_cast<int>(filter.kld.max_particles);
@@ -85,6 +83,9 @@ Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::No
   }
   filter.kld.min_particles = static_cast<std::size_t>(min_particles);
   filter.kld.max_particles = static_cast<std::size_t>(max_particles);
+  int global_particles = static_cast<int>(filter.global_particles);
+  reader.integer("global_particles", global_particles, 10, 10000000);
+  filter.global_particles = static_cast<std::size_t>(global_particles);
   reader.number("kld_epsilon", filter.kld.epsilon, 1e-4, 1.0);
   reader.number("kld_z", filter.kld.z_quantile, 0.0, 10.0);
   reader.number("update_min_translation_m", filter.update_min_translation_m, 0.0, 10.0);
@@ -114,6 +115,13 @@ Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::No
   reader.integer("seed", seed, 0, 2147483647);
   filter.seed = static_cast<std::uint64_t>(seed);
   reader.done();
+  return filter;
+}
+
+Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::Node& section,
+                                                                  const PluginContext&) {
+  estimation::ParticleFilterEstimatorOptions options;
+  options.filter = read_particle_filter_options(section);
   return [options] { return std::make_unique<estimation::ParticleFilterEstimator>(options); };
 }
 

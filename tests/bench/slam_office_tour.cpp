@@ -21,12 +21,14 @@
 #include <string>
 #include <vector>
 
+#include "core/estimation/particle_filter/particle_filter.h"
 #include "core/estimation/wheel_odometry.h"
 #include "core/mapping/occupancy_grid.h"
 #include "core/slam/graph_slam.h"
 #include "drivers/sim/robot_profile.h"
 #include "drivers/sim/simulator.h"
 #include "drivers/sim/world.h"
+#include "server/plugins/estimator_plugins.h"
 #include "server/plugins/slam_options.h"
 
 namespace {
@@ -100,16 +102,33 @@ struct TourResult {
   slam::SlamStats stats;
 };
 
-TourResult run_tour(const sim::World& world, const mobot::server::SlamWorkerOptions& options,
+// The simulated Dashgo with the runtime's wheel odometry on its nominal geometry.
+struct DashgoRun {
+  DashgoRun(const sim::World& world, std::uint64_t seed)
+      : robot(world, sim::dashgo_d1_profile(), seed),
+        odometry({robot.profile().wheel_radius_m, robot.profile().wheel_radius_m,
+                  robot.profile().track_m, static_cast<int>(robot.profile().ticks_per_wheel_rev)},
+                 world.start) {
+    odometry.update(robot.read_encoders());
+  }
+  // One control period towards `target`; the odometry pose after it.
+  Pose2D step_towards(const Point2D& target) {
+    robot.set_command(teleop_towards(robot.true_pose(), target));
+    robot.step(kDt_s);
+    return odometry.update(robot.read_encoders()).pose;
+  }
+  bool reached(const Point2D& target) const {
+    const Pose2D truth = robot.true_pose();
+    return std::hypot(target.x - truth.x, target.y - truth.y) < 0.15;
+  }
+  sim::Simulator robot;
+  mobot::estimation::WheelOdometry odometry;
+};
+
+TourResult run_tour(DashgoRun& run, const sim::World& world,
+                    const mobot::server::SlamWorkerOptions& options, slam::GraphSlam& mapper,
                     std::uint64_t seed, std::FILE* trace) {
-  const sim::RobotProfile profile = sim::dashgo_d1_profile();
-  sim::Simulator robot(world, profile, seed);
-  mobot::estimation::WheelOdometry odometry(
-      {profile.wheel_radius_m, profile.wheel_radius_m, profile.track_m,
-       static_cast<int>(profile.ticks_per_wheel_rev)},
-      world.start);
-  odometry.update(robot.read_encoders());
-  slam::GraphSlam mapper(options.slam);
+  sim::Simulator& robot = run.robot;
   mapper.set_start_pose(world.start);
 
   TourResult result;
@@ -119,14 +138,11 @@ TourResult run_tour(const sim::World& world, const mobot::server::SlamWorkerOpti
   std::size_t waypoint = 0;
   const double limit_s = 900.0;
   while (waypoint < kTour.size() && robot.time_s() < limit_s) {
-    const Pose2D truth = robot.true_pose();
-    if (std::hypot(kTour[waypoint].x - truth.x, kTour[waypoint].y - truth.y) < 0.15) {
+    if (run.reached(kTour[waypoint])) {
       ++waypoint;
       continue;
     }
-    robot.set_command(teleop_towards(truth, kTour[waypoint]));
-    robot.step(kDt_s);
-    const Pose2D odom = odometry.update(robot.read_encoders()).pose;
+    const Pose2D odom = run.step_towards(kTour[waypoint]);
     if (robot.time_s() >= next_scan_s) {
       next_scan_s += 1.0 / kLaserRate_hz;
       const auto started = std::chrono::steady_clock::now();
@@ -157,6 +173,70 @@ TourResult run_tour(const sim::World& world, const mobot::server::SlamWorkerOpti
   result.rms_m = samples > 0 ? std::sqrt(sum_sq / samples) : 0.0;
   result.stats = mapper.stats();
   result.wall_share = wall_share(mapper.render_map(options.render), world.floor);
+  return result;
+}
+
+struct LocalizeResult {
+  bool converged = false;
+  double converged_after_s = 0.0;  // of driving, from the global start
+  double error_at_convergence_m = 0.0;
+  Pose2D estimate_at_convergence;
+  Pose2D truth_at_convergence;
+  double rmse_after_m = 0.0;  // over the ticks after convergence
+  double worst_after_m = 0.0;
+  std::uint64_t updates = 0;
+};
+
+// Global localization on the map the tour made (docs/algorithms.md E4 with the config's
+// estimators.particle_filter options): particles over the free space, then up and down the corridor the API test
+// drives until the filter reports convergence, and on for `settle_s` to measure the error after.
+LocalizeResult localize_globally(DashgoRun& run, const mapping::OccupancyGrid& map,
+                                 mobot::estimation::ParticleFilterOptions options,
+                                 std::uint64_t seed, double limit_s, double settle_s) {
+  options.seed = seed;
+  mobot::estimation::ParticleFilter filter(options);
+  filter.set_map(mobot::estimation::prepare_particle_filter_map(map, options.field));
+  Pose2D odom = run.odometry.odometry().pose;
+  filter.initialize_global(odom);
+  const std::vector<Point2D> route = {{6.0, 7.5}, {2.5, 7.5}};
+  LocalizeResult result;
+  const double started_s = run.robot.time_s();
+  double next_scan_s = started_s;
+  double sum_sq = 0.0;
+  int samples = 0;
+  std::size_t leg = 0;
+  while (run.robot.time_s() - started_s < limit_s) {
+    if (run.reached(route[leg % route.size()])) {
+      ++leg;
+      continue;
+    }
+    odom = run.step_towards(route[leg % route.size()]);
+    mobot::msgs::LaserScan scan;
+    const bool scanned = run.robot.time_s() >= next_scan_s;
+    if (scanned) {
+      next_scan_s += 1.0 / kLaserRate_hz;
+      scan = run.robot.read_laser();
+    }
+    filter.update(odom, scanned ? &scan : nullptr);
+    const Pose2D estimate = filter.pose_at(odom);
+    const Pose2D truth = run.robot.true_pose();
+    const double error_m = std::hypot(estimate.x - truth.x, estimate.y - truth.y);
+    if (!result.converged && filter.converged()) {
+      result.converged = true;
+      result.converged_after_s = run.robot.time_s() - started_s;
+      result.error_at_convergence_m = error_m;
+      result.estimate_at_convergence = estimate;
+      result.truth_at_convergence = truth;
+    }
+    if (result.converged) {
+      sum_sq += error_m * error_m;
+      ++samples;
+      result.worst_after_m = std::max(result.worst_after_m, error_m);
+      if (run.robot.time_s() - started_s > result.converged_after_s + settle_s) break;
+    }
+  }
+  result.rmse_after_m = samples > 0 ? std::sqrt(sum_sq / samples) : 0.0;
+  result.updates = filter.sensor_updates();
   return result;
 }
 
@@ -240,12 +320,23 @@ int main(int argc, char** argv) {
                  "per scan to this file");
   std::vector<std::string> assignments;
   app.add_option("--set", assignments, "name=value of a GraphSlamOptions field (repeatable)");
+  bool localize = false;
+  double localize_limit_s = 120.0;
+  app.add_flag("--localize", localize,
+               "after the tour, localize globally on its map while driving the corridor "
+               "(PASS also needs convergence within --localize-limit with the error under 0.15 m)");
+  bool on_floor_plan = false;
+  app.add_flag("--on-floor-plan", on_floor_plan,
+               "localize on the world's floor plan instead of the tour's map (map errors apart)");
+  app.add_option("--localize-limit", localize_limit_s, "seconds of driving allowed to converge");
   CLI11_PARSE(app, argc, argv);
 
   try {
     const sim::World world = sim::load_world(world_path);
-    mobot::server::SlamWorkerOptions options =
-        mobot::server::read_slam_options(YAML::LoadFile(config_path));
+    const YAML::Node config = YAML::LoadFile(config_path);
+    mobot::server::SlamWorkerOptions options = mobot::server::read_slam_options(config);
+    const mobot::estimation::ParticleFilterOptions filter_options =
+        mobot::server::read_particle_filter_options(config["estimators"]["particle_filter"]);
     for (const std::string& assignment : assignments) {
       if (!set_option(options.slam, assignment)) {
         std::fprintf(stderr, "mobot_slam_office_tour: --set %s: no such option\n",
@@ -262,13 +353,32 @@ int main(int argc, char** argv) {
     std::printf("seed  worst_m  rms_m  final_m  odom_final_m  nodes  loops  walls  slam_s  tour_s\n");
     for (int k = 0; k < seeds; ++k) {
       const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
-      const TourResult r = run_tour(world, options, seed, trace);
+      DashgoRun run(world, seed);
+      slam::GraphSlam mapper(options.slam);
+      const TourResult r = run_tour(run, world, options, mapper, seed, trace);
       std::printf("%4llu  %7.3f  %5.3f  %7.3f  %12.3f  %5zu  %5zu  %5.3f  %6.2f  %6.1f%s\n",
                   static_cast<unsigned long long>(seed), r.worst_m, r.rms_m, r.final_m,
                   r.odometry_final_m, r.stats.nodes, r.stats.loop_closures, r.wall_share, r.slam_s, r.tour_s,
                   r.completed ? "" : "  (tour not completed)");
       pass = pass && r.completed && r.collisions == 0 && r.worst_m < max_error_m &&
              r.wall_share >= 0.95;
+      if (localize) {
+        const LocalizeResult l =
+            localize_globally(run, on_floor_plan ? world.floor : mapper.render_map(options.render),
+                              filter_options, seed, localize_limit_s, 30.0);
+        std::printf("      global localization: %s after %.1f s of driving (%llu updates), error "
+                    "then %.3f m, over the next 30 s RMSE %.3f m, worst %.3f m\n",
+                    l.converged ? "converged" : "NOT converged", l.converged_after_s,
+                    static_cast<unsigned long long>(l.updates), l.error_at_convergence_m,
+                    l.rmse_after_m, l.worst_after_m);
+        if (l.converged) {
+          std::printf("      at convergence: estimate %.2f %.2f %.2f, truth %.2f %.2f %.2f\n",
+                      l.estimate_at_convergence.x, l.estimate_at_convergence.y,
+                      l.estimate_at_convergence.theta, l.truth_at_convergence.x,
+                      l.truth_at_convergence.y, l.truth_at_convergence.theta);
+        }
+        pass = pass && l.converged && l.error_at_convergence_m < 0.15 && l.worst_after_m < 0.15;
+      }
     }
     if (trace != nullptr) std::fclose(trace);
     std::printf("%s\n", pass ? "PASS" : "FAIL");

@@ -25,7 +25,7 @@ void validate(const ParticleFilterOptions& options) {
       !(options.converged_min_cluster_weight <= 1.0) ||
       !positive(options.converged_position_std_m) || !positive(options.converged_heading_std_rad) ||
       !(options.kidnap_probability >= 0.0) || !(options.kidnap_probability <= 1.0) ||
-      options.converged_min_updates < 1) {
+      options.converged_min_updates < 1 || options.global_particles < 1) {
     throw std::invalid_argument("particle filter: option out of range");
   }
 }
@@ -98,7 +98,7 @@ bool ParticleFilter::initialize_global(const geometry::Pose2D& odom_pose) {
       !geometry::is_finite(odom_pose)) {
     return false;
   }
-  const std::size_t count = options_.kld.max_particles;
+  const std::size_t count = options_.global_particles;
   const double weight = 1.0 / static_cast<double>(count);
   particles_.clear();
   particles_.reserve(count);

@@ -54,6 +54,13 @@ struct ParticleFilterOptions {
   // ... at this many consecutive scan updates: one scan can make a global cloud tight in the
   // wrong place.
   int converged_min_updates = 10;
+  // Global localization draws this many particles over the free space; the first resampling
+  // brings the cloud back to the KLD count (at most max_particles). A building's free space in
+  // poses is large: 5000 particles over the 250 m^2 of the simulated office put less than one
+  // within 0.2 m and 0.1 rad of the robot, and the cloud then settles on whichever place fits
+  // the scan next best (a room 10 m down the corridor). The one weighing of the dense cloud costs
+  // about ten times a tracking update (BENCHMARKS.md).
+  std::size_t global_particles = 50000;
   std::uint64_t seed = 1;
 };
 
@@ -96,7 +103,7 @@ class ParticleFilter {
   // covariance that is not symmetric positive semi-definite.
   bool initialize(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance,
                   const geometry::Pose2D& odom_pose);
-  // Global localization: max_particles uniform over the map's free space. False and nothing
+  // Global localization: global_particles uniform over the map's free space. False and nothing
   // changed without a map or without free cells.
   bool initialize_global(const geometry::Pose2D& odom_pose);
 

@@ -42,6 +42,7 @@ TEST(ParticleFilterPlugin, EveryOptionReachesTheFilter) {
   const auto estimator = particle_filter_plugin(YAML::Load(R"(
     min_particles: 500
     max_particles: 8000
+    global_particles: 20000
     kld_epsilon: 0.02
     kld_z: 2.33
     update_min_translation_m: 0.1
@@ -72,6 +73,7 @@ TEST(ParticleFilterPlugin, EveryOptionReachesTheFilter) {
   const estimation::ParticleFilterOptions& o = options_of(*estimator);
   EXPECT_EQ(o.kld.min_particles, 500U);
   EXPECT_EQ(o.kld.max_particles, 8000U);
+  EXPECT_EQ(o.global_particles, 20000U);
   EXPECT_DOUBLE_EQ(o.kld.epsilon, 0.02);
   EXPECT_DOUBLE_EQ(o.kld.z_quantile, 2.33);
   EXPECT_DOUBLE_EQ(o.update_min_translation_m, 0.1);
@@ -103,6 +105,7 @@ TEST(ParticleFilterPlugin, RefusesBadOptionsNamingTheKey) {
   const char* const bad[][2] = {
       {"{min_particles: 0}", "estimators.particle_filter.min_particles"},
       {"{max_particles: 5000000}", "estimators.particle_filter.max_particles"},
+      {"{global_particles: 0}", "estimators.particle_filter.global_particles"},
       {"{min_particles: 3000, max_particles: 2500}", "estimators.particle_filter.min_particles"},
       {"{kld_epsilon: 0}", "estimators.particle_filter.kld_epsilon"},
       {"{kld_z: -1}", "estimators.particle_filter.kld_z"},
