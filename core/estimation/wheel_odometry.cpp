@@ -15,6 +15,7 @@ WheelOdometry::WheelOdometry(const OdometryParams& params, geometry::Pose2D star
 const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders) {
   if (!last_) {
     last_ = encoders;
+    recent_.assign(1, encoders);
     odometry_.stamp_s = encoders.stamp_s;
     last_travel_ = {};
     return odometry_;
@@ -29,8 +30,19 @@ const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders)
   odometry_.pose =
       kinematics::integrate_wheel_travel(odometry_.pose, left_m, right_m, params_.track_m);
   if (dt_s > 0.0) {
-    odometry_.twist =
-        kinematics::twist_from_wheels({left_m / dt_s, right_m / dt_s}, params_.track_m);
+    recent_.push_back(encoders);
+    while (recent_.size() > 2 && encoders.stamp_s - recent_[1].stamp_s >= params_.velocity_window_s)
+      recent_.pop_front();
+    const msgs::WheelEncoders& from = recent_.front();
+    const double span_s = encoders.stamp_s - from.stamp_s;
+    const double left_window_m = static_cast<double>(encoders.left_ticks - from.left_ticks) *
+                                 metres_per_tick * params_.left_wheel_radius_m;
+    const double right_window_m = static_cast<double>(encoders.right_ticks - from.right_ticks) *
+                                  metres_per_tick * params_.right_wheel_radius_m;
+    odometry_.twist = kinematics::twist_from_wheels(
+        {left_window_m / span_s, right_window_m / span_s}, params_.track_m);
+  } else {
+    recent_.assign(1, encoders);  // a clock that stepped back restarts the window
   }
   odometry_.stamp_s = encoders.stamp_s;
   travelled_m_ += std::abs((left_m + right_m) / 2.0);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deque>
 #include <optional>
 
 #include "core/msgs/odometry.h"
@@ -14,6 +15,11 @@ struct OdometryParams {
   double right_wheel_radius_m = 0.1;
   double track_m = 0.6;
   int ticks_per_wheel_rev = 10000;
+  // The velocity is the encoders' travel over at least this long. Over one 20 ms control period
+  // a Dashgo wheel (1200 ticks per turn of a 0.128 m wheel) moves a whole tick only above
+  // 0.017 m/s, so a per-period velocity reads 0 or 0.017 m/s while the base turns slowly on the
+  // spot, and a planner that accelerates from the measured velocity (DWA) never gets going.
+  double velocity_window_s = 0.1;
 };
 
 // How far each wheel rolled in the last update.
@@ -27,7 +33,8 @@ class WheelOdometry {
  public:
   explicit WheelOdometry(const OdometryParams& params, geometry::Pose2D start = {});
 
-  // The first reading only anchors the counters; later ones advance the pose.
+  // The first reading only anchors the counters; later ones advance the pose. The twist is the
+  // travel since the newest reading at least velocity_window_s old (or the oldest there is).
   const msgs::Odometry& update(const msgs::WheelEncoders& encoders);
   const msgs::Odometry& odometry() const { return odometry_; }
   // Distance rolled by the base centre since construction (for run statistics).
@@ -39,6 +46,8 @@ class WheelOdometry {
  private:
   OdometryParams params_;
   std::optional<msgs::WheelEncoders> last_;
+  // The readings of the last velocity_window_s and the one before them, oldest first.
+  std::deque<msgs::WheelEncoders> recent_;
   msgs::Odometry odometry_;
   double travelled_m_ = 0.0;
   WheelTravel last_travel_;

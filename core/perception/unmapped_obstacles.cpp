@@ -42,11 +42,19 @@ void UnmappedObstacles::observe_ranges(std::span<const msgs::RangeReading> ring,
   std::erase_if(range_echoes_, [&](const HeldEcho& echo) {
     return !(now_s - echo.seen_s <= options_.range_echo_hold_s);
   });
-  for (const auto& reading : ring) {
+  if (echo_runs_.size() != ring.size()) echo_runs_.assign(ring.size(), EchoRun{});
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const msgs::RangeReading& reading = ring[i];
+    EchoRun& run = echo_runs_[i];
     // range_max (or beyond): nothing echoed; NaN: not a reading.
     if (!(reading.range_m >= reading.range_min_m && reading.range_m < reading.range_max_m)) {
+      run = {};
       continue;
     }
+    const bool agrees = run.count > 0 &&
+                        std::abs(reading.range_m - run.range_m) <= options_.range_echo_agreement_m;
+    run = {reading.range_m, agrees ? run.count + 1 : 1};
+    if (run.count < options_.range_echo_confirmations) continue;
     const geometry::Pose2D sensor = geometry::compose(base_in_map, reading.sensor_in_base);
     const geometry::Point2D point = geometry::transform_point(sensor, {reading.range_m, 0.0});
     if (!explained_by_map(point)) range_echoes_.push_back({point, now_s});

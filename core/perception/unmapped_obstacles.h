@@ -20,6 +20,13 @@ struct UnmappedObstaclesOptions {
   // top only the IR ring sees drops out of its narrow cones as soon as the robot turns away, and
   // the replan must still go round it (docs/algorithms.md C6).
   double range_echo_hold_s = 10.0;
+  // An echo counts when the same sensor reported this many in a row, each within
+  // range_echo_agreement_m of the one before: a Sharp ranger's odd high sample (a spike of up to
+  // 0.3 V in 1 % of the readings) reads a phantom 0.5-0.8 m out about once a second on a ten-sensor
+  // ring at 20 Hz, and held for range_echo_hold_s those phantoms wall in the goal the robot stands
+  // next to. A real obstacle echoes on consecutive readings.
+  int range_echo_confirmations = 2;
+  double range_echo_agreement_m = 0.1;
 };
 
 // What the range sensors see that the map does not explain (dropped obstacles, people): the
@@ -35,8 +42,9 @@ class UnmappedObstacles {
 
   // Keeps the scan's returns the map does not explain, in the map frame (replacing the last).
   void observe_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
-  // Keeps the echoes of a ring of short-range sensors (IR) the map does not explain, each until
-  // range_echo_hold_s after it was seen.
+  // Keeps the confirmed echoes of a ring of short-range sensors (IR) the map does not explain,
+  // each until range_echo_hold_s after it was seen. The ring's readings in the same sensor order
+  // every call; a ring of another size starts the confirmation over.
   void observe_ranges(std::span<const msgs::RangeReading> ring, const geometry::Pose2D& base_in_map,
                       double now_s);
   // The laser's unexplained returns and the held range echoes, map frame.
@@ -66,6 +74,12 @@ class UnmappedObstacles {
     double seen_s = 0.0;
   };
   std::vector<HeldEcho> range_echoes_;
+  // Per sensor of the ring: the last reading's range and how many agreeing echoes in a row.
+  struct EchoRun {
+    double range_m = 0.0;
+    int count = 0;
+  };
+  std::vector<EchoRun> echo_runs_;
   std::vector<geometry::Point2D> points_;
 };
 

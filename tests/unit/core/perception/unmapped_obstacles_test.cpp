@@ -33,6 +33,7 @@ TEST(UnmappedObstacles, ShortRangeEchoesAreHeldThenForgotten) {
   UnmappedObstacles obstacles(options);
   obstacles.set_map(room());
   const std::vector<msgs::RangeReading> ring{ir(0.5), ir(0.8, 1.0)};  // an echo, a max reading
+  obstacles.observe_ranges(ring, {1.0, 2.0, 0.0}, 9.95);
   obstacles.observe_ranges(ring, {1.0, 2.0, 0.0}, 10.0);
   ASSERT_EQ(obstacles.points().size(), 1U);
   EXPECT_NEAR(obstacles.points()[0].x, 1.5, 1e-9);
@@ -44,6 +45,27 @@ TEST(UnmappedObstacles, ShortRangeEchoesAreHeldThenForgotten) {
   // ... until the hold time has passed.
   obstacles.observe_ranges(std::vector<msgs::RangeReading>{ir(0.8)}, {1.0, 2.0, 3.0}, 12.5);
   EXPECT_TRUE(obstacles.points().empty());
+}
+
+// One sensor's lone near reading between two "nothing" readings is a spike; the same echo twice
+// in a row is an obstacle; a reading that jumps by more than the agreement starts over.
+TEST(UnmappedObstacles, ALoneRangeSpikeIsNotAnObstacle) {
+  UnmappedObstacles obstacles;
+  obstacles.set_map(room());
+  const auto observe = [&](double range_m, double now_s) {
+    obstacles.observe_ranges(std::vector<msgs::RangeReading>{ir(0.8), ir(range_m, 1.5)},
+                             {1.0, 2.0, 0.0}, now_s);
+  };
+  observe(0.8, 1.00);
+  observe(0.6, 1.05);  // spike
+  observe(0.8, 1.10);
+  observe(0.6, 1.15);  // another, not in a row with the first
+  EXPECT_TRUE(obstacles.points().empty());
+  observe(0.35, 1.20);  // 0.25 m from the last: not the same echo
+  EXPECT_TRUE(obstacles.points().empty());
+  observe(0.37, 1.25);  // the same echo again: confirmed
+  ASSERT_EQ(obstacles.points().size(), 1U);
+  EXPECT_NEAR(std::hypot(obstacles.points()[0].x - 1.0, obstacles.points()[0].y - 2.0), 0.37, 1e-9);
 }
 
 TEST(UnmappedObstacles, EchoesOfMappedWallsAndBadReadingsAreNotObstacles) {
@@ -58,6 +80,7 @@ TEST(UnmappedObstacles, EchoesOfMappedWallsAndBadReadingsAreNotObstacles) {
 TEST(UnmappedObstacles, AScanReplacesOnlyTheLaserPoints) {
   UnmappedObstacles obstacles;
   obstacles.set_map(room());
+  obstacles.observe_ranges(std::vector<msgs::RangeReading>{ir(0.5)}, {1.0, 1.0, 0.0}, 0.95);
   obstacles.observe_ranges(std::vector<msgs::RangeReading>{ir(0.5)}, {1.0, 1.0, 0.0}, 1.0);
   msgs::LaserScan scan;
   scan.angle_min_rad = 0.0F;
