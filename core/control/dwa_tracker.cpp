@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/control/stop_and_rotate.h"
 #include "core/geometry/polyline.h"
 
 namespace mobot::control {
@@ -138,7 +139,8 @@ DwaTracker::DwaTracker(const DwaOptions& options) : options_(options) {
       !non_negative(o.goal_distance_bias) || !non_negative(o.occdist_scale) ||
       !non_negative(o.forward_point_distance_m) || !positive(o.local_goal_distance_m) ||
       !positive(o.projection_window_m) || !non_negative(o.min_improvement) ||
-      !non_negative(o.goal_tolerance_m) || !non_negative(o.goal_tolerance_rad)) {
+      !non_negative(o.goal_tolerance_m) || !non_negative(o.goal_tolerance_rad) ||
+      !non_negative(o.approach_radius_m)) {
     throw std::invalid_argument("DWA tracker options out of range");
   }
 }
@@ -281,7 +283,11 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
     }
   }
   blocked_ = !found || best_score > stay_score - o.min_improvement;
-  if (blocked_) return {};
+  if (blocked_) {
+    const auto approach = approach_goal(pose, velocity);
+    blocked_ = !approach;
+    return approach.value_or(msgs::Twist{});
+  }
   chosen_.push_back(pose);
   roll_out(pose, best.linear_mps, best.angular_radps, best_steps, o.sim_time_s / best_steps,
            [this](const geometry::Pose2D& at) {
@@ -289,6 +295,33 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
              return true;
            });
   return best;
+}
+
+std::optional<msgs::Twist> DwaTracker::approach_goal(const geometry::Pose2D& pose,
+                                                     const msgs::Twist& velocity) const {
+  const geometry::Point2D goal = progress_.path().back();
+  const double distance_m = std::hypot(goal.x - pose.x, goal.y - pose.y);
+  if (distance_m > options_.approach_radius_m) return std::nullopt;
+  const CostLookup costs(costmap_.get());
+  const double step_m = costs.has_grid() ? costmap_->resolution_m() : distance_m;
+  for (double s = 0.0; s <= distance_m; s += step_m) {
+    const double f = distance_m > 0.0 ? s / distance_m : 0.0;
+    if (!PlanningGrid::is_traversable_cost(
+            costs.cost(pose.x + f * (goal.x - pose.x), pose.y + f * (goal.y - pose.y)))) {
+      return std::nullopt;
+    }
+  }
+  const double bearing_error =
+      geometry::wrap_angle(pose.theta - std::atan2(goal.y - pose.y, goal.x - pose.x));
+  // Facing the goal within this, drive; the tolerance's own angle seen from here, at least.
+  const double facing_rad = std::max(0.1, std::atan2(options_.goal_tolerance_m, distance_m));
+  if (std::abs(bearing_error) > facing_rad) {
+    return stop_and_rotate(options_.limits, velocity, bearing_error, facing_rad).command;
+  }
+  const DynamicWindow window = reachable_window(options_.limits, velocity);
+  // Slow enough to stop at the goal: v = sqrt(2 a d).
+  const double v = std::sqrt(2.0 * options_.limits.linear_accel_mps2 * distance_m);
+  return window.clamp({v, 0.0});
 }
 
 }  // namespace mobot::control

@@ -47,6 +47,11 @@ struct DwaOptions {
   // A best trajectory that does not score this much better than standing still makes no
   // progress: the tracker stops and reports itself blocked (boxed in, or the path is walled off).
   double min_improvement = 1e-3;
+  // Within this distance of the goal, when no trajectory beats standing still (the goal lies off
+  // to the side of a robot that stopped just outside the tolerance: every arc the window allows
+  // passes it by), the robot turns on the spot to face the goal and drives straight at it, if
+  // the cells on the way are traversable. 0: never.
+  double approach_radius_m = 0.4;
   // The final approach starts within goal_tolerance_m of the goal and is latched: stop, turn to the
   // goal heading, arrive within goal_tolerance_rad.
   double goal_tolerance_m = 0.05;
@@ -60,8 +65,9 @@ struct DwaOptions {
 //   path_distance_bias * d(end, path) + goal_distance_bias * d(end, local goal)
 //   + occdist_scale * max cost  (+ the same two distances of the nose point)
 // and commands the cheapest, preferring the faster of equal scores. No admissible trajectory, or
-// none better than standing still, is a clear stop: zero command and blocked() true. Near the goal
-// it stops and turns on the spot to the goal heading (stop_and_rotate). Without a local costmap
+// none better than standing still, is a clear stop: zero command and blocked() true, except
+// within approach_radius_m of the goal, where it turns to the goal and drives straight at it.
+// Within the goal tolerance it stops and turns on the spot to the goal heading (stop_and_rotate). Without a local costmap
 // every cell counts as free.
 class DwaTracker : public PathTracker {
  public:
@@ -90,6 +96,9 @@ class DwaTracker : public PathTracker {
  private:
   struct Scoring;
   msgs::Twist track(const geometry::Pose2D& pose, const msgs::Twist& velocity);
+  // The approach_radius_m manoeuvre; nullopt when the goal is farther or the way is not free.
+  std::optional<msgs::Twist> approach_goal(const geometry::Pose2D& pose,
+                                           const msgs::Twist& velocity) const;
 
   DwaOptions options_;
   std::shared_ptr<const planning::PlanningGrid> costmap_;

@@ -237,6 +237,31 @@ TEST(DwaTracker, TurnsOnTheSpotWhenThePathStartsBehind) {
   EXPECT_TRUE(run.within_limits);
 }
 
+// The Dashgo's case: its accelerations (0.3 m/s^2, 0.3 rad/s^2) leave a window of a few mm/s per
+// tick, and a robot that stopped 0.11 m from the goal, off to its side, finds no arc that beats
+// standing still. Within approach_radius_m it turns to the goal and drives at it.
+TEST(DwaTracker, ReachesAGoalBesideItFromAStopJustOutsideTheTolerance) {
+  for (const double approach_radius_m : {0.4, 0.0}) {
+    DwaOptions options;
+    options.limits.linear_accel_mps2 = 0.3;
+    options.limits.angular_accel_radps2 = 0.3;
+    options.goal_tolerance_m = 0.10;
+    options.goal_tolerance_rad = 0.10;
+    options.approach_radius_m = approach_radius_m;
+    DwaTracker tracker(options);
+    ASSERT_TRUE(tracker.set_path(straight(), std::nullopt));
+    const DriveResult run = drive(tracker, {2.95, -0.10, -0.43}, 30.0);
+    EXPECT_TRUE(run.within_limits);
+    if (approach_radius_m > 0.0) {
+      ASSERT_TRUE(run.arrived) << run.pose.x << ", " << run.pose.y;
+      EXPECT_LT(std::hypot(run.pose.x - 3.0, run.pose.y), 0.10 + 1e-6);
+      EXPECT_LT(std::abs(run.pose.theta), 0.10 + 1e-6);
+    } else {
+      EXPECT_FALSE(run.arrived) << "the case no longer needs the approach";
+    }
+  }
+}
+
 TEST(DwaTracker, RefusesBadPathsAndANanPose) {
   DwaTracker tracker;
   EXPECT_EQ(tracker.compute({}, {}, 0.0), msgs::Twist{});
@@ -273,6 +298,9 @@ TEST(DwaTracker, RejectsBadOptions) {
   EXPECT_THROW(DwaTracker{options}, std::invalid_argument);
   options = {};
   options.occdist_scale = -1.0;
+  EXPECT_THROW(DwaTracker{options}, std::invalid_argument);
+  options = {};
+  options.approach_radius_m = -0.1;
   EXPECT_THROW(DwaTracker{options}, std::invalid_argument);
 }
 
