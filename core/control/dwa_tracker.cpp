@@ -100,6 +100,37 @@ void roll_out(const geometry::Pose2D& start, double v, double w, int steps, doub
   }
 }
 
+// Moves `value` toward `target` by at most `step`.
+double approach(double value, double target, double step) {
+  return value + std::clamp(target - value, -step, step);
+}
+
+// roll_out for Trajectory Rollout: from the velocity `from`, each step first moves the velocity
+// toward `to` by the accelerations' reach in dt, then follows that step's arc.
+template <class Visit>
+void roll_out_accelerating(const geometry::Pose2D& start, const msgs::Twist& from,
+                           const msgs::Twist& to, const DynamicLimits& limits, int steps,
+                           double dt, Visit&& visit) {
+  geometry::Pose2D pose = start;
+  double v = from.linear_mps;
+  double w = from.angular_radps;
+  for (int i = 1; i <= steps; ++i) {
+    v = approach(v, to.linear_mps, limits.linear_accel_mps2 * dt);
+    w = approach(w, to.angular_radps, limits.angular_accel_radps2 * dt);
+    const double turn = w * dt;
+    if (std::abs(w) < 1e-9) {
+      pose.x += v * dt * std::cos(pose.theta);
+      pose.y += v * dt * std::sin(pose.theta);
+    } else {
+      const double radius = v / w;
+      pose.x += radius * (std::sin(pose.theta + turn) - std::sin(pose.theta));
+      pose.y -= radius * (std::cos(pose.theta + turn) - std::cos(pose.theta));
+    }
+    pose.theta += turn;
+    if (!visit(pose)) return;
+  }
+}
+
 }  // namespace
 
 // What a trajectory is scored against this tick.
@@ -243,7 +274,20 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   // Standing still is the score to beat; from an inscribed or lethal cell nothing is admissible.
   const std::uint8_t here = costs.cost(pose.x, pose.y);
   const double stay_score = scoring.score(o, pose, here);
-  const DynamicWindow window = reachable_window(o.limits, velocity);
+  const bool accelerate = o.accelerate_in_rollout;
+  DynamicLimits sampling = o.limits;
+  if (accelerate) sampling.control_period_s = o.sim_time_s;
+  const DynamicWindow window = reachable_window(sampling, velocity);
+  const msgs::Twist from{std::isfinite(velocity.linear_mps) ? velocity.linear_mps : 0.0,
+                         std::isfinite(velocity.angular_radps) ? velocity.angular_radps : 0.0};
+  // One trajectory: constant (v, w), or accelerating from the measured velocity to it.
+  const auto simulate = [&](double v, double w, int steps, auto&& visit) {
+    if (accelerate) {
+      roll_out_accelerating(pose, from, {v, w}, o.limits, steps, o.sim_time_s / steps, visit);
+    } else {
+      roll_out(pose, v, w, steps, o.sim_time_s / steps, visit);
+    }
+  };
   double best_score = std::numeric_limits<double>::infinity();
   msgs::Twist best;
   int best_steps = 0;
@@ -252,16 +296,20 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
     for (const double v : samples(window.min_linear_mps, window.max_linear_mps, o.linear_samples)) {
       for (const double w :
            samples(window.min_angular_radps, window.max_angular_radps, o.angular_samples)) {
+        const double fastest_v = accelerate ? std::max(std::abs(v), std::abs(from.linear_mps))
+                                            : std::abs(v);
+        const double fastest_w = accelerate
+                                     ? std::max(std::abs(w), std::abs(from.angular_radps))
+                                     : std::abs(w);
         const int steps = static_cast<int>(
-            std::ceil(std::max(std::abs(v) * o.sim_time_s / o.sim_granularity_m,
-                               std::abs(w) * o.sim_time_s / o.angular_sim_granularity_rad)));
+            std::ceil(std::max(fastest_v * o.sim_time_s / o.sim_granularity_m,
+                               fastest_w * o.sim_time_s / o.angular_sim_granularity_rad)));
         if (steps == 0) continue;  // standing still: stay_score
         ++scored_;
-        const double dt = o.sim_time_s / steps;
         std::uint8_t max_cost = here;
         bool admissible = true;
         geometry::Pose2D end = pose;
-        roll_out(pose, v, w, steps, dt, [&](const geometry::Pose2D& at) {
+        simulate(v, w, steps, [&](const geometry::Pose2D& at) {
           const std::uint8_t cost = costs.cost(at.x, at.y);
           admissible = PlanningGrid::is_traversable_cost(cost);
           max_cost = std::max(max_cost, cost);
@@ -289,11 +337,13 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
     return approach.value_or(msgs::Twist{});
   }
   chosen_.push_back(pose);
-  roll_out(pose, best.linear_mps, best.angular_radps, best_steps, o.sim_time_s / best_steps,
-           [this](const geometry::Pose2D& at) {
-             chosen_.push_back(at);
-             return true;
-           });
+  simulate(best.linear_mps, best.angular_radps, best_steps, [this](const geometry::Pose2D& at) {
+    chosen_.push_back(at);
+    return true;
+  });
+  // Trajectory Rollout commands the sample itself: the velocity smoother ramps to it at the limits
+  // as the simulation did. (A step of one period from the measured velocity would be held back by
+  // the measurement's lag behind the command, 50 ms of it at the odometry's 0.1 s window.)
   return best;
 }
 

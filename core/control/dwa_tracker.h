@@ -21,6 +21,14 @@ struct DwaOptions {
   DynamicLimits limits;
   // Each sampled (v, w) is simulated at constant velocity for this long (sim_time).
   double sim_time_s = 1.7;
+  // Trajectory Rollout instead of DWA proper (base_local_planner with use_dwa false): sample the
+  // velocities reachable within sim_time_s rather than one control period, simulate each
+  // trajectory accelerating to its sample at the limits, and command the chosen sample, which the
+  // velocity smoother ramps to at the same limits. For a base that accelerates slowly next to the control rate (the
+  // Dashgo's 0.3 m/s^2 and 0.3 rad/s^2 give a one-period window of 6 mm/s and 6 mrad/s) the
+  // constant-velocity arcs of that window barely differ, and the one it picks overshoots because
+  // none of them accounts for the time it takes to brake a turn.
+  bool accelerate_in_rollout = false;
   // Simulation steps: at most this far or this much turn apart (sim_granularity,
   // angular_sim_granularity).
   double sim_granularity_m = 0.025;

@@ -99,6 +99,7 @@ Registry<control::PathTracker>::Maker dwa_plugin(const YAML::Node& section,
   reader.number("projection_window_m", options.projection_window_m, 0.1, 10.0);
   reader.number("min_improvement", options.min_improvement, 0.0, 10.0);
   reader.number("approach_radius_m", options.approach_radius_m, 0.0, 2.0);
+  reader.flag("accelerate_in_rollout", options.accelerate_in_rollout);
   reader.done();
   return checked_maker<control::DwaTracker>(options, reader);
 }

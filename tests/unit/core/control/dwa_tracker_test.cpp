@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -32,8 +33,10 @@ struct DriveResult {
   bool within_limits = true;
 };
 
-// Closed loop with an ideal unicycle (the measured velocity is the last command), the local
-// costmap (when given) refreshed every tick around the robot.
+// Closed loop with an ideal unicycle (the measured velocity is the last command; with Trajectory
+// Rollout, the last command ramped to at the limits as the velocity smoother does), the local
+// costmap (when given) refreshed every tick around the robot. Commands stay in the window of one
+// control period (of sim_time with Trajectory Rollout).
 DriveResult drive(DwaTracker& tracker, Pose2D pose, double max_time_s,
                   costmap::LayeredCostmap* costmap = nullptr) {
   DriveResult run;
@@ -47,7 +50,10 @@ DriveResult drive(DwaTracker& tracker, Pose2D pose, double max_time_s,
       if (cell) run.worst_cost = std::max(run.worst_cost, costmap->master().cost(*cell));
     }
     const msgs::Twist u = tracker.compute(pose, velocity, t);
-    const DynamicWindow window = reachable_window(limits, velocity);
+    const bool rollout = tracker.options().accelerate_in_rollout;
+    DynamicLimits window_limits = limits;
+    if (rollout) window_limits.control_period_s = tracker.options().sim_time_s;
+    const DynamicWindow window = reachable_window(window_limits, velocity);
     if (!window.contains(u) && !(tracker.blocked() && u == msgs::Twist{})) {
       run.within_limits = false;
       ADD_FAILURE() << "command (" << u.linear_mps << ", " << u.angular_radps
@@ -59,10 +65,18 @@ DriveResult drive(DwaTracker& tracker, Pose2D pose, double max_time_s,
       EXPECT_EQ(u, msgs::Twist{});
       break;
     }
-    pose.x += u.linear_mps * std::cos(pose.theta) * kDt;
-    pose.y += u.linear_mps * std::sin(pose.theta) * kDt;
-    pose.theta = geometry::wrap_angle(pose.theta + u.angular_radps * kDt);
-    velocity = u;
+    msgs::Twist moved = u;
+    if (rollout) {
+      const auto ramp = [](double from, double to, double step) {
+        return from + std::clamp(to - from, -step, step);
+      };
+      moved = {ramp(velocity.linear_mps, u.linear_mps, limits.linear_accel_mps2 * kDt),
+               ramp(velocity.angular_radps, u.angular_radps, limits.angular_accel_radps2 * kDt)};
+    }
+    pose.x += moved.linear_mps * std::cos(pose.theta) * kDt;
+    pose.y += moved.linear_mps * std::sin(pose.theta) * kDt;
+    pose.theta = geometry::wrap_angle(pose.theta + moved.angular_radps * kDt);
+    velocity = moved;
   }
   run.pose = pose;
   return run;
@@ -258,6 +272,30 @@ TEST(DwaTracker, ReachesAGoalBesideItFromAStopJustOutsideTheTolerance) {
       EXPECT_LT(std::abs(run.pose.theta), 0.10 + 1e-6);
     } else {
       EXPECT_FALSE(run.arrived) << "the case no longer needs the approach";
+    }
+  }
+}
+
+// The Dashgo's accelerations (0.3 m/s^2, 0.3 rad/s^2) on the L path, with the ramp to each sample
+// simulated (Trajectory Rollout) and with DWA proper's one-period window.
+TEST(DwaTracker, TrajectoryRolloutDrivesASlowlyAcceleratingBase) {
+  for (const bool rollout : {false, true}) {
+    DwaOptions options;
+    options.limits.linear_accel_mps2 = 0.3;
+    options.limits.angular_accel_radps2 = 0.3;
+    options.goal_tolerance_m = 0.10;
+    options.goal_tolerance_rad = 0.10;
+    options.accelerate_in_rollout = rollout;
+    DwaTracker tracker(options);
+    ASSERT_TRUE(tracker.set_path(l_shape(), kPi / 2));
+    const DriveResult run = drive(tracker, {0.0, 0.0, 0.0}, 60.0);
+    EXPECT_TRUE(run.within_limits);
+    std::printf("L path, accelerations 0.3, %s: %s in %.2f s\n", rollout ? "rollout" : "DWA",
+                run.arrived ? "arrived" : "not arrived", run.arrived ? run.time_s : 60.0);
+    if (rollout) {
+      ASSERT_TRUE(run.arrived);
+      EXPECT_LT(std::hypot(run.pose.x - 2.0, run.pose.y - 2.0), 0.10 + 1e-6);
+      EXPECT_LT(run.time_s, 4.0 / 0.3 + 10.0);
     }
   }
 }

@@ -118,6 +118,7 @@ TEST(TrackerPlugins, ReadsEveryOption) {
     projection_window_m: 3.0
     min_improvement: 0.01
     approach_radius_m: 0.25
+    accelerate_in_rollout: true
   )"),
                               context())();
   const auto& o = dynamic_cast<const control::DwaTracker&>(*dwa).options();
@@ -127,6 +128,7 @@ TEST(TrackerPlugins, ReadsEveryOption) {
   EXPECT_DOUBLE_EQ(o.goal_distance_bias, 30.0);
   EXPECT_DOUBLE_EQ(o.min_improvement, 0.01);
   EXPECT_DOUBLE_EQ(o.approach_radius_m, 0.25);
+  EXPECT_TRUE(o.accelerate_in_rollout);
   const auto vfh = vfh_plugin(YAML::Load(R"(
     sector_count: 36
     window_radius_m: 2.0
@@ -163,7 +165,8 @@ TEST(TrackerPlugins, RefusesOutOfRangeValuesNamingTheKey) {
        {"sim_time_s: 0", "sim_granularity_m: 1", "angular_sim_granularity_rad: 0",
         "linear_samples: 0", "angular_samples: 101", "path_distance_bias: -1",
         "goal_distance_bias: 1e6", "occdist_scale: -0.1", "forward_point_distance_m: 3",
-        "local_goal_distance_m: 0", "projection_window_m: 0", "min_improvement: -1", "approach_radius_m: -1",
+        "local_goal_distance_m: 0", "projection_window_m: 0", "min_improvement: -1",
+        "approach_radius_m: -1", "accelerate_in_rollout: maybe",
         "control_period_s: 1", "max_angular_radps: 2", "min_in_place_angular_radps: -1",
         "angular_accel_radps2: 4"}) {
     const std::string error = error_of(dwa_plugin, key);
