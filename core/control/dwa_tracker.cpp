@@ -332,9 +332,9 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
   }
   blocked_ = !found || best_score > stay_score - o.min_improvement;
   if (blocked_) {
-    const auto approach = approach_goal(pose, velocity);
-    blocked_ = !approach;
-    return approach.value_or(msgs::Twist{});
+    const auto toward_goal = approach_goal(pose, velocity);
+    blocked_ = !toward_goal;
+    return toward_goal.value_or(msgs::Twist{});
   }
   chosen_.push_back(pose);
   simulate(best.linear_mps, best.angular_radps, best_steps, [this](const geometry::Pose2D& at) {
@@ -353,7 +353,7 @@ std::optional<msgs::Twist> DwaTracker::approach_goal(const geometry::Pose2D& pos
   const double distance_m = std::hypot(goal.x - pose.x, goal.y - pose.y);
   if (distance_m > options_.approach_radius_m) return std::nullopt;
   const CostLookup costs(costmap_.get());
-  const double step_m = costs.has_grid() ? costmap_->resolution_m() : distance_m;
+  const double step_m = costs.has_grid() ? costmap_->resolution_m() : std::max(distance_m, 1e-3);
   for (double s = 0.0; s <= distance_m; s += step_m) {
     const double f = distance_m > 0.0 ? s / distance_m : 0.0;
     if (!PlanningGrid::is_traversable_cost(

@@ -31,8 +31,11 @@ const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders)
       kinematics::integrate_wheel_travel(odometry_.pose, left_m, right_m, params_.track_m);
   if (dt_s > 0.0) {
     recent_.push_back(encoders);
-    while (recent_.size() > 2 && encoders.stamp_s - recent_[1].stamp_s >= params_.velocity_window_s)
+    // (Written so that a NaN window keeps only the last step rather than every reading.)
+    while (recent_.size() > 2 &&
+           !(encoders.stamp_s - recent_[1].stamp_s < params_.velocity_window_s)) {
       recent_.pop_front();
+    }
     const msgs::WheelEncoders& from = recent_.front();
     const double span_s = encoders.stamp_s - from.stamp_s;
     const double left_window_m = static_cast<double>(encoders.left_ticks - from.left_ticks) *

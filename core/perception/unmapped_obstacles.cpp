@@ -1,5 +1,6 @@
 #include "core/perception/unmapped_obstacles.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -53,7 +54,8 @@ void UnmappedObstacles::observe_ranges(std::span<const msgs::RangeReading> ring,
     }
     const bool agrees = run.count > 0 &&
                         std::abs(reading.range_m - run.range_m) <= options_.range_echo_agreement_m;
-    run = {reading.range_m, agrees ? run.count + 1 : 1};
+    const int in_a_row = agrees ? std::min(run.count + 1, options_.range_echo_confirmations) : 1;
+    run = {reading.range_m, in_a_row};
     if (run.count < options_.range_echo_confirmations) continue;
     const geometry::Pose2D sensor = geometry::compose(base_in_map, reading.sensor_in_base);
     const geometry::Point2D point = geometry::transform_point(sensor, {reading.range_m, 0.0});
