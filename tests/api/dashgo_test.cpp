@@ -191,11 +191,7 @@ TEST_F(DashgoTest, D_TenGoalsWithDwaAndNoCollision) {
   EXPECT_EQ(sim_truth(viewer()).at("collisions").get<int>(), collisions_before);
 }
 
-// Disabled: recovered within 30 s in three of four runs of the suite, not in the fourth (1.6 m off
-// at 31 s). The random particles of augmented MCL are drawn at the tracking cloud's size (at most
-// max_particles over the whole free space), which leaves about one near the robot per 60 updates;
-// global localization needed the same density fix (global_particles).
-TEST_F(DashgoTest, DISABLED_E_RecoversFromAKidnapWithin30sOfDriving) {
+TEST_F(DashgoTest, E_RecoversFromAKidnapWithin30sOfDriving) {
   ASSERT_GT(saved_map_id_, 0);
   ASSERT_EQ(operator_client()
                 .put("/api/v1/localization/method", json{{"method", "particle_filter"}})

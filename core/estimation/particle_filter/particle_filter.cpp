@@ -202,20 +202,32 @@ void ParticleFilter::weigh_and_resample(const PreparedScan& scan) {
   if (++weighings_ % static_cast<std::uint64_t>(options_.resample_interval) != 0) return;
   const bool can_inject = map_.free_space && !map_.free_space->empty() && w_slow_ > 0.0;
   last_random_fraction_ = can_inject ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
-  RandomPoseFn random_pose;
-  if (can_inject) {
-    random_pose = [free_space = map_.free_space.get()](std::mt19937_64& rng) {
-      return free_space->sample(rng);
-    };
-  }
-  // Augmented MCL decides how many particles explore; their importance weight keeps the belief
-  // honest: the belief gives a pose away from the cloud the kidnap prior, the proposal drew it
-  // with the random fraction.
+  particles_ = sampler_.resample(particles_, 0.0, {}, rng_);
   const double r = last_random_fraction_;
+  if (r > 0.0) inject_random_particles(r);
+}
+
+void ParticleFilter::inject_random_particles(double random_fraction) {
+  // Augmented MCL decides how many particles explore, at the density of global localization: a
+  // share of global_particles, not of the tracking cloud, which over a building's free space
+  // would put about one near a kidnapped robot every 60 updates. Their importance weight keeps
+  // the belief honest: the belief gives poses away from the cloud the kidnap prior rho, the
+  // proposal drew them with the random fraction r, so together they weigh
+  // min(rho / (1 - rho), r / (1 - r)) against the resampled cloud's 1.
+  const double r = std::min(random_fraction, 0.99);
   const double rho = options_.kidnap_probability;
-  const double random_weight = r > 0.0 && rho < r ? (rho / r) * (1.0 - r) / (1.0 - rho) : 1.0;
-  particles_ =
-      sampler_.resample(particles_, last_random_fraction_, random_pose, rng_, random_weight);
+  const auto count = static_cast<std::size_t>(
+      std::ceil(r * static_cast<double>(options_.global_particles)));
+  if (count == 0) return;
+  const double random_mass = std::min(rho / (1.0 - rho), r / (1.0 - r));
+  const double each = random_mass / static_cast<double>(count);
+  double cloud_mass = 0.0;
+  for (const WeightedPose& particle : particles_) cloud_mass += particle.weight;
+  particles_.reserve(particles_.size() + count);
+  for (std::size_t i = 0; i < count; ++i)
+    particles_.push_back({map_.free_space->sample(rng_), each * cloud_mass});
+  const double total = cloud_mass * (1.0 + random_mass);
+  for (WeightedPose& particle : particles_) particle.weight /= total;
 }
 
 void ParticleFilter::refresh_statistics() {

@@ -36,7 +36,8 @@ struct ParticleFilterOptions {
   int resample_interval = 1;
   // Augmented MCL (Probabilistic Robotics Table 8.3, AMCL's recovery_alpha_slow / _fast): short-
   // and long-term averages of the scan likelihood; when the short one drops below the long one,
-  // a fraction 1 - w_fast / w_slow of the resampled particles is drawn from the free space.
+  // 1 - w_fast / w_slow times global_particles poses from the free space join the resampled cloud
+  // (the global density: a share of the tracking cloud leaves a kidnapped robot unfound).
   double alpha_slow = 0.001;
   double alpha_fast = 0.1;
   // The prior probability, per update, that the robot was carried off. The random particles are
@@ -141,6 +142,9 @@ class ParticleFilter {
   bool settled_now() const;
   void move_particles(const geometry::Pose2D& odom_pose);
   void weigh_and_resample(const PreparedScan& scan);
+  // Adds random_fraction x global_particles poses from the free space, weighted by the kidnap
+  // prior (see the options), to the resampled cloud.
+  void inject_random_particles(double random_fraction);
   // Clusters, estimate, covariance from the current particles.
   void refresh_statistics();
   void start_over(const geometry::Pose2D& odom_pose);
