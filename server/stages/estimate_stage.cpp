@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "api/prometheus_text.h"
+#include "core/estimation/particle_filter/particle_filter.h"
 #include "core/perception/map_line_extractor.h"
 
 namespace mobot::server {
@@ -112,6 +113,11 @@ void EstimateStage::prepare_map(const ActiveMap& map) {
   auto model = std::make_shared<estimation::MapModel>();
   model->grid = map.grid;
   model->wall_lines = perception::extract_map_lines(*map.grid);
+  if (!map.grid->cells().empty()) {
+    const estimation::ParticleFilterMap field = estimation::prepare_particle_filter_map(*map.grid);
+    model->likelihood_field = field.field;
+    model->free_space = field.free_space;
+  }
   prepared_map_ = std::move(model);
 }
 

@@ -22,6 +22,13 @@ void ParticleFilterEstimator::set_map(std::shared_ptr<const MapModel> map) {
   }
   if (map->grid == grid_) return;
   grid_ = map->grid;
+  // The model's field when it was built with this filter's options (off the control loop), else
+  // built here.
+  if (map->likelihood_field && map->free_space &&
+      map->likelihood_field->max_distance_m() == options_.filter.field.max_distance_m) {
+    filter_.set_map({map->likelihood_field, map->free_space});
+    return;
+  }
   filter_.set_map(prepare_particle_filter_map(*grid_, options_.filter.field));
 }
 

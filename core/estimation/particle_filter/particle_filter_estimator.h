@@ -26,7 +26,8 @@ class ParticleFilterEstimator final : public PoseEstimator {
   // A covariance that is not symmetric positive semi-definite, or a non-finite pose, is refused
   // (counted as a rejected update) and changes nothing.
   void reset(const geometry::Pose2D& pose, const Eigen::Matrix3d& covariance) override;
-  // The likelihood field is built here, once per grid (a map set again is not rebuilt).
+  // The likelihood field is the model's when it was prepared with this filter's
+  // likelihood_max_distance_m, else built here; once per grid (a map set again is not rebuilt).
   void set_map(std::shared_ptr<const MapModel> map) override;
   void update(const EstimatorInputs& inputs) override;
   geometry::Pose2D pose() const override { return filter_.pose_at(odom_); }
