@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -119,6 +120,40 @@ TEST(ParticleFilterEstimator, WithoutAMapItDeadReckonsAndNeverConverges) {
   EXPECT_GT(estimator.covariance()(0, 0) + estimator.covariance()(1, 1), 1e-3);
   EXPECT_EQ(estimator.counters().scan_updates, 0U);
   EXPECT_FALSE(estimator.start_global_localization());
+}
+
+// The map worker prepares the field and free cells with the map; the estimator takes them rather
+// than building its own on the control loop, unless they were built for another distance cap.
+// (The prepared free space here is the room's west half only, so whose it is shows in the cloud.)
+TEST(ParticleFilterEstimator, UsesTheFieldPreparedWithTheMap) {
+  Robot robot;
+  const mapping::OccupancyGrid room = pf_world::room_grid(robot.room());
+  mapping::OccupancyGrid west_half = room;
+  for (int y = 0; y < west_half.height(); ++y) {
+    for (int x = 0; x < west_half.width(); ++x) {
+      if (west_half.cell_center({x, y}).x > 5.0) {
+        west_half.set({x, y}, mapping::OccupancyGrid::kOccupied);
+      }
+    }
+  }
+  for (const double cap_m : {2.0, 1.5}) {
+    auto model = std::make_shared<MapModel>();
+    model->grid = std::make_shared<const mapping::OccupancyGrid>(room);
+    const ParticleFilterMap prepared =
+        prepare_particle_filter_map(west_half, LikelihoodFieldOptions{cap_m});
+    model->likelihood_field = prepared.field;
+    model->free_space = prepared.free_space;
+    ParticleFilterEstimator estimator;  // likelihood_max_distance_m 2 m
+    estimator.set_map(model);
+    ASSERT_TRUE(estimator.start_global_localization());
+    double max_x = -1e9;
+    for (const WeightedPose& p : estimator.particles(2000)) max_x = std::max(max_x, p.pose.x);
+    if (cap_m == 2.0) {
+      EXPECT_LT(max_x, 5.0 + 0.05) << "the prepared free space was not used";
+    } else {
+      EXPECT_GT(max_x, 9.0) << "a field for another distance cap was used";
+    }
+  }
 }
 
 TEST(ParticleFilterEstimator, GlobalLocalizationSpreadsTheCloudOverTheMap) {
