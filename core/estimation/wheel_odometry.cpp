@@ -12,23 +12,26 @@ WheelOdometry::WheelOdometry(const OdometryParams& params, geometry::Pose2D star
   odometry_.pose = start;
 }
 
+WheelTravel WheelOdometry::travel(const msgs::WheelEncoders& from,
+                                  const msgs::WheelEncoders& to) const {
+  const double metres_per_tick = 2.0 * std::numbers::pi / params_.ticks_per_wheel_rev;
+  return {static_cast<double>(to.left_ticks - from.left_ticks) * metres_per_tick *
+              params_.left_wheel_radius_m,
+          static_cast<double>(to.right_ticks - from.right_ticks) * metres_per_tick *
+              params_.right_wheel_radius_m};
+}
+
 const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders) {
-  if (!last_) {
-    last_ = encoders;
+  if (recent_.empty()) {
     recent_.assign(1, encoders);
     odometry_.stamp_s = encoders.stamp_s;
     last_travel_ = {};
     return odometry_;
   }
-  const double metres_per_tick = 2.0 * std::numbers::pi / params_.ticks_per_wheel_rev;
-  const double left_m = static_cast<double>(encoders.left_ticks - last_->left_ticks) *
-                        metres_per_tick * params_.left_wheel_radius_m;
-  const double right_m = static_cast<double>(encoders.right_ticks - last_->right_ticks) *
-                         metres_per_tick * params_.right_wheel_radius_m;
-  const double dt_s = encoders.stamp_s - last_->stamp_s;
-
-  odometry_.pose =
-      kinematics::integrate_wheel_travel(odometry_.pose, left_m, right_m, params_.track_m);
+  const WheelTravel step = travel(recent_.back(), encoders);
+  const double dt_s = encoders.stamp_s - recent_.back().stamp_s;
+  odometry_.pose = kinematics::integrate_wheel_travel(odometry_.pose, step.left_m, step.right_m,
+                                                     params_.track_m);
   if (dt_s > 0.0) {
     recent_.push_back(encoders);
     // (Written so that a NaN window keeps only the last step rather than every reading.)
@@ -36,21 +39,16 @@ const msgs::Odometry& WheelOdometry::update(const msgs::WheelEncoders& encoders)
            !(encoders.stamp_s - recent_[1].stamp_s < params_.velocity_window_s)) {
       recent_.pop_front();
     }
-    const msgs::WheelEncoders& from = recent_.front();
-    const double span_s = encoders.stamp_s - from.stamp_s;
-    const double left_window_m = static_cast<double>(encoders.left_ticks - from.left_ticks) *
-                                 metres_per_tick * params_.left_wheel_radius_m;
-    const double right_window_m = static_cast<double>(encoders.right_ticks - from.right_ticks) *
-                                  metres_per_tick * params_.right_wheel_radius_m;
+    const WheelTravel window = travel(recent_.front(), encoders);
+    const double span_s = encoders.stamp_s - recent_.front().stamp_s;
     odometry_.twist = kinematics::twist_from_wheels(
-        {left_window_m / span_s, right_window_m / span_s}, params_.track_m);
+        {window.left_m / span_s, window.right_m / span_s}, params_.track_m);
   } else {
     recent_.assign(1, encoders);  // a clock that stepped back restarts the window
   }
   odometry_.stamp_s = encoders.stamp_s;
-  travelled_m_ += std::abs((left_m + right_m) / 2.0);
-  last_travel_ = {left_m, right_m};
-  last_ = encoders;
+  travelled_m_ += std::abs((step.left_m + step.right_m) / 2.0);
+  last_travel_ = step;
   return odometry_;
 }
 

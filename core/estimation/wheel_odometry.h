@@ -1,7 +1,6 @@
 #pragma once
 
 #include <deque>
-#include <optional>
 
 #include "core/msgs/odometry.h"
 #include "core/msgs/wheel_encoders.h"
@@ -45,8 +44,11 @@ class WheelOdometry {
 
  private:
   OdometryParams params_;
-  std::optional<msgs::WheelEncoders> last_;
-  // The readings of the last velocity_window_s and the one before them, oldest first.
+  // The wheels' travel between two readings.
+  WheelTravel travel(const msgs::WheelEncoders& from, const msgs::WheelEncoders& to) const;
+
+  // The readings of the last velocity_window_s and the one before them, oldest first; the newest
+  // is the last reading (empty before the first).
   std::deque<msgs::WheelEncoders> recent_;
   msgs::Odometry odometry_;
   double travelled_m_ = 0.0;

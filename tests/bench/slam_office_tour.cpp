@@ -240,64 +240,13 @@ LocalizeResult localize_globally(DashgoRun& run, const mapping::OccupancyGrid& m
   return result;
 }
 
-// --set name=value: a GraphSlamOptions field by its name, for trying values without a config edit.
-bool set_option(slam::GraphSlamOptions& o, const std::string& assignment) {
+// --set name=value: the config's slam.name replaced, for trying a value without editing the
+// file; read_slam_options then checks it as mobotd would. False for a malformed assignment.
+bool set_slam_key(YAML::Node& config, const std::string& assignment) {
   const auto eq = assignment.find('=');
-  if (eq == std::string::npos) return false;
-  const std::string name = assignment.substr(0, eq);
-  const double value = std::stod(assignment.substr(eq + 1));
-  struct Real {
-    const char* name;
-    double slam::GraphSlamOptions::*field;
-  };
-  struct Count {
-    const char* name;
-    int slam::GraphSlamOptions::*field;
-  };
-  using O = slam::GraphSlamOptions;
-  static const Real reals[] = {
-      {"max_range_m", &O::max_range_m},
-      {"voxel_size_m", &O::voxel_size_m},
-      {"min_travel_m", &O::min_travel_m},
-      {"min_rotation_rad", &O::min_rotation_rad},
-      {"match_field_sigma_m", &O::match_field_sigma_m},
-      {"local_map_chain_distance_m", &O::local_map_chain_distance_m},
-      {"local_map_spacing_m", &O::local_map_spacing_m},
-      {"local_search_linear_m", &O::local_search_linear_m},
-      {"local_search_angular_rad", &O::local_search_angular_rad},
-      {"local_min_score", &O::local_min_score},
-      {"refine_translation_weight", &O::refine_translation_weight},
-      {"refine_rotation_weight", &O::refine_rotation_weight},
-      {"odom_translation_sigma_per_m", &O::odom_translation_sigma_per_m},
-      {"odom_rotation_sigma_per_rad", &O::odom_rotation_sigma_per_rad},
-      {"odom_rotation_sigma_per_m", &O::odom_rotation_sigma_per_m},
-      {"odom_min_sigma_m", &O::odom_min_sigma_m},
-      {"odom_min_sigma_rad", &O::odom_min_sigma_rad},
-      {"loop_search_radius_m", &O::loop_search_radius_m},
-      {"loop_min_score", &O::loop_min_score},
-      {"loop_covariance_scale", &O::loop_covariance_scale},
-      {"match_covariance_scale", &O::match_covariance_scale},
-  };
-  static const Count counts[] = {
-      {"local_map_nodes", &O::local_map_nodes},
-      {"loop_min_node_gap", &O::loop_min_node_gap},
-      {"loop_submap_half_nodes", &O::loop_submap_half_nodes},
-      {"optimize_every_n_nodes", &O::optimize_every_n_nodes},
-      {"loop_attempt_every_n_nodes", &O::loop_attempt_every_n_nodes},
-  };
-  for (const Real& r : reals) {
-    if (name == r.name) {
-      o.*r.field = value;
-      return true;
-    }
-  }
-  for (const Count& c : counts) {
-    if (name == c.name) {
-      o.*c.field = static_cast<int>(value);
-      return true;
-    }
-  }
-  return false;
+  if (eq == std::string::npos || eq == 0) return false;
+  config["slam"][assignment.substr(0, eq)] = assignment.substr(eq + 1);
+  return true;
 }
 
 }  // namespace
@@ -319,7 +268,7 @@ int main(int argc, char** argv) {
                  "write 'seed t truth_x truth_y truth_theta slam_x slam_y slam_theta nodes loops' "
                  "per scan to this file");
   std::vector<std::string> assignments;
-  app.add_option("--set", assignments, "name=value of a GraphSlamOptions field (repeatable)");
+  app.add_option("--set", assignments, "name=value of a slam config key (repeatable)");
   bool localize = false;
   double localize_limit_s = 120.0;
   app.add_flag("--localize", localize,
@@ -333,17 +282,17 @@ int main(int argc, char** argv) {
 
   try {
     const sim::World world = sim::load_world(world_path);
-    const YAML::Node config = YAML::LoadFile(config_path);
-    mobot::server::SlamWorkerOptions options = mobot::server::read_slam_options(config);
-    const mobot::estimation::ParticleFilterOptions filter_options =
-        mobot::server::read_particle_filter_options(config["estimators"]["particle_filter"]);
+    YAML::Node config = YAML::LoadFile(config_path);
     for (const std::string& assignment : assignments) {
-      if (!set_option(options.slam, assignment)) {
-        std::fprintf(stderr, "mobot_slam_office_tour: --set %s: no such option\n",
+      if (!set_slam_key(config, assignment)) {
+        std::fprintf(stderr, "mobot_slam_office_tour: --set %s: expected name=value\n",
                      assignment.c_str());
         return 2;
       }
     }
+    const mobot::server::SlamWorkerOptions options = mobot::server::read_slam_options(config);
+    const mobot::estimation::ParticleFilterOptions filter_options =
+        mobot::server::read_particle_filter_options(config["estimators"]["particle_filter"]);
     std::FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
     if (!trace_path.empty() && trace == nullptr) {
       std::fprintf(stderr, "mobot_slam_office_tour: cannot write %s\n", trace_path.c_str());

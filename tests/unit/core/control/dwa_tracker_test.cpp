@@ -251,16 +251,22 @@ TEST(DwaTracker, TurnsOnTheSpotWhenThePathStartsBehind) {
   EXPECT_TRUE(run.within_limits);
 }
 
+// The Dashgo's accelerations (0.3 m/s^2, 0.3 rad/s^2) and goal tolerances (0.10 m, 0.10 rad).
+DwaOptions dashgo_options() {
+  DwaOptions options;
+  options.limits.linear_accel_mps2 = 0.3;
+  options.limits.angular_accel_radps2 = 0.3;
+  options.goal_tolerance_m = 0.10;
+  options.goal_tolerance_rad = 0.10;
+  return options;
+}
+
 // The Dashgo's case: its accelerations (0.3 m/s^2, 0.3 rad/s^2) leave a window of a few mm/s per
 // tick, and a robot that stopped 0.11 m from the goal, off to its side, finds no arc that beats
 // standing still. Within approach_radius_m it turns to the goal and drives at it.
 TEST(DwaTracker, ReachesAGoalBesideItFromAStopJustOutsideTheTolerance) {
   for (const double approach_radius_m : {0.4, 0.0}) {
-    DwaOptions options;
-    options.limits.linear_accel_mps2 = 0.3;
-    options.limits.angular_accel_radps2 = 0.3;
-    options.goal_tolerance_m = 0.10;
-    options.goal_tolerance_rad = 0.10;
+    DwaOptions options = dashgo_options();
     options.approach_radius_m = approach_radius_m;
     DwaTracker tracker(options);
     ASSERT_TRUE(tracker.set_path(straight(), std::nullopt));
@@ -280,11 +286,7 @@ TEST(DwaTracker, ReachesAGoalBesideItFromAStopJustOutsideTheTolerance) {
 // simulated (Trajectory Rollout) and with DWA proper's one-period window.
 TEST(DwaTracker, TrajectoryRolloutDrivesASlowlyAcceleratingBase) {
   for (const bool rollout : {false, true}) {
-    DwaOptions options;
-    options.limits.linear_accel_mps2 = 0.3;
-    options.limits.angular_accel_radps2 = 0.3;
-    options.goal_tolerance_m = 0.10;
-    options.goal_tolerance_rad = 0.10;
+    DwaOptions options = dashgo_options();
     options.accelerate_in_rollout = rollout;
     DwaTracker tracker(options);
     ASSERT_TRUE(tracker.set_path(l_shape(), kPi / 2));
