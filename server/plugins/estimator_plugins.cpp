@@ -86,6 +86,9 @@ estimation::ParticleFilterOptions read_particle_filter_options(const YAML::Node&
   int global_particles = static_cast<int>(filter.global_particles);
   reader.integer("global_particles", global_particles, 10, 10000000);
   filter.global_particles = static_cast<std::size_t>(global_particles);
+  int weighed_per_update = static_cast<int>(filter.max_weighed_per_update);
+  reader.integer("max_weighed_per_update", weighed_per_update, 0, 10000000);
+  filter.max_weighed_per_update = static_cast<std::size_t>(weighed_per_update);
   reader.number("kld_epsilon", filter.kld.epsilon, 1e-4, 1.0);
   reader.number("kld_z", filter.kld.z_quantile, 0.0, 10.0);
   reader.number("update_min_translation_m", filter.update_min_translation_m, 0.0, 10.0);
@@ -102,9 +105,15 @@ estimation::ParticleFilterOptions read_particle_filter_options(const YAML::Node&
   reader.number("z_rand", filter.laser.z_rand, 0.0, 1.0);
   reader.number("sigma_hit_m", filter.laser.sigma_hit_m, 0.001, 10.0);
   reader.number("laser_max_range_m", filter.laser.range_max_m, 0.1, 1000.0);
+  reader.flag("no_return_beams", filter.laser.no_return_beams);
+  reader.number("no_return_margin_m", filter.laser.no_return_margin_m, 0.0, 10.0);
+  reader.integer("max_no_return_beams", filter.laser.max_no_return_beams, 0, 10000);
+  reader.number("no_return_clearance_rad", filter.laser.no_return_clearance_rad, 0.0, 1.0);
+  reader.number("no_return_weight", filter.laser.no_return_weight, 0.0, 1.0);
   reader.number("likelihood_max_distance_m", filter.field.max_distance_m, 0.01, 20.0);
   reader.number("recovery_alpha_slow", filter.alpha_slow, 0.0, 1.0);
   reader.number("recovery_alpha_fast", filter.alpha_fast, 0.0, 1.0);
+  reader.number("recovery_min_fraction", filter.recovery_min_fraction, 0.0, 0.99);
   reader.number("kidnap_probability", filter.kidnap_probability, 0.0, 1.0);
   reader.number("converged_position_std_m", filter.converged_position_std_m, 0.001, 100.0);
   reader.number("converged_heading_std_rad", filter.converged_heading_std_rad, 0.001,

@@ -344,6 +344,8 @@ int main(int argc, char** argv) {
   // corridors lose their ends.
   double alpha = 0.02;
   options.laser.range_max_m = 12.0;
+  // A log has no control loop to keep on time: every cloud is weighed in the call of its scan.
+  options.max_weighed_per_update = 0;
   std::string combination = "product";
   int min_particles = static_cast<int>(options.kld.min_particles);
   int max_particles = static_cast<int>(options.kld.max_particles);

@@ -130,8 +130,12 @@ std::vector<WeightedPose> cloud(std::size_t count, const Pose2D& centre) {
   return out;
 }
 
-void BM_ParticleFilterWeigh2000x60(benchmark::State& state) {
-  const BeamLikelihood model(office_map().field);
+// The weighing alone, with the beams that return nothing walked as free rays (the default) and
+// without (AMCL's model): what the free rays cost.
+void weigh_2000x60(benchmark::State& state, bool no_return_beams) {
+  BeamLikelihoodOptions options;
+  options.no_return_beams = no_return_beams;
+  const BeamLikelihood model(office_map().field, options);
   const PreparedScan scan = model.prepare(corridor().scans[10]);
   const auto particles = cloud(2000, corridor().poses[10]);
   for (auto _ : state) {
@@ -140,8 +144,14 @@ void BM_ParticleFilterWeigh2000x60(benchmark::State& state) {
     benchmark::DoNotOptimize(total);
   }
   state.counters["beams"] = static_cast<double>(scan.endpoints_in_base.size());
+  state.counters["free_rays"] = static_cast<double>(scan.free_ray_ends_in_base.size());
 }
+void BM_ParticleFilterWeigh2000x60(benchmark::State& state) { weigh_2000x60(state, true); }
 BENCHMARK(BM_ParticleFilterWeigh2000x60)->Unit(benchmark::kMicrosecond);
+void BM_ParticleFilterWeigh2000x60ReturnsOnly(benchmark::State& state) {
+  weigh_2000x60(state, false);
+}
+BENCHMARK(BM_ParticleFilterWeigh2000x60ReturnsOnly)->Unit(benchmark::kMicrosecond);
 
 void BM_ParticleFilterKldResample2000(benchmark::State& state) {
   const KldSampler sampler;

@@ -25,6 +25,7 @@ void validate(const ParticleFilterOptions& options) {
       !(options.converged_min_cluster_weight <= 1.0) ||
       !positive(options.converged_position_std_m) || !positive(options.converged_heading_std_rad) ||
       !(options.kidnap_probability >= 0.0) || !(options.kidnap_probability <= 1.0) ||
+      !(options.recovery_min_fraction >= 0.0) || !(options.recovery_min_fraction < 1.0) ||
       options.converged_min_updates < 1 || options.global_particles < 1) {
     throw std::invalid_argument("particle filter: option out of range");
   }
@@ -65,10 +66,13 @@ void ParticleFilter::set_map(ParticleFilterMap map) {
   if (!map.field) {
     map_ = {};
     laser_.reset();
+    pending_.reset();
     return;
   }
   laser_ = std::make_unique<BeamLikelihood>(map.field, options_.laser);
   map_ = std::move(map);
+  // A weighing under way was against the old map: the particles stay where it moved them.
+  pending_.reset();
   // A new map is new evidence for the same odometry.
   force_update_ = true;
 }
@@ -109,6 +113,7 @@ bool ParticleFilter::initialize_global(const geometry::Pose2D& odom_pose) {
 }
 
 void ParticleFilter::start_over(const geometry::Pose2D& odom_pose) {
+  pending_.reset();
   odom_at_particles_ = odom_pose;
   odom_at_estimate_ = odom_pose;
   force_update_ = true;
@@ -133,15 +138,45 @@ FilterUpdate ParticleFilter::update(const geometry::Pose2D& odom_pose,
     covariance_ = weighted_pose_moments(particles_).covariance;
     return FilterUpdate::kPredicted;
   }
+  if (pending_) return continue_weighing();
   if (scan == nullptr) return FilterUpdate::kWaiting;
   if (!force_update_ && !moved_enough(odom_pose)) return FilterUpdate::kWaiting;
-  const PreparedScan prepared = laser_->prepare(*scan);
+  PreparedScan prepared = laser_->prepare(*scan);
   if (prepared.empty()) return FilterUpdate::kNoUsableBeams;
   const geometry::Pose2D predicted = pose_at(odom_pose);
   move_particles(odom_pose);
-  weigh_and_resample(prepared);
+  log_likelihoods_.resize(particles_.size());
+  pending_ =
+      PendingWeighing{std::move(prepared), predicted, 0, -std::numeric_limits<double>::infinity()};
+  return continue_weighing();
+}
+
+FilterUpdate ParticleFilter::continue_weighing() {
+  PendingWeighing& pending = *pending_;
+  const std::size_t count = particles_.size();
+  const std::size_t chunk = options_.max_weighed_per_update;
+  const std::size_t end = chunk == 0 ? count : std::min(count, pending.weighed + chunk);
+  // A particle e^-40 below the best so far is nothing the resampling keeps: its free rays need
+  // no walk (BeamLikelihood::log_likelihood).
+  constexpr double kNegligibleLog = 40.0;
+  for (std::size_t i = pending.weighed; i < end; ++i) {
+    log_likelihoods_[i] =
+        laser_->log_likelihood(pending.scan, particles_[i].pose, pending.best - kNegligibleLog);
+    pending.best = std::max(pending.best, log_likelihoods_[i]);
+  }
+  pending.weighed = end;
+  if (end < count) return FilterUpdate::kWeighing;
+  const PendingWeighing done = std::move(pending);
+  pending_.reset();
+  resample_weighed(done.scan);
+  finish_update(done.predicted, done.scan.beam_count());
+  return FilterUpdate::kUpdated;
+}
+
+void ParticleFilter::finish_update(const geometry::Pose2D& predicted, std::size_t beams) {
   refresh_statistics();
-  odom_at_estimate_ = odom_pose;
+  // The estimate is of the scan's time: the odometry then is where the particles were moved to.
+  odom_at_estimate_ = *odom_at_particles_;
   // After an initialisation the "prediction" is the initial guess: the first correction counts.
   last_correction_m_ = std::hypot(estimate_.x - predicted.x, estimate_.y - predicted.y);
   last_correction_rad_ = std::abs(geometry::wrap_angle(estimate_.theta - predicted.theta));
@@ -149,8 +184,7 @@ FilterUpdate ParticleFilter::update(const geometry::Pose2D& odom_pose,
   ++updates_since_start_;
   settled_updates_ = settled_now() ? settled_updates_ + 1 : 0;
   ++sensor_updates_;
-  last_beam_count_ = prepared.endpoints_in_base.size();
-  return FilterUpdate::kUpdated;
+  last_beam_count_ = beams;
 }
 
 bool ParticleFilter::moved_enough(const geometry::Pose2D& odom_pose) const {
@@ -169,14 +203,9 @@ void ParticleFilter::move_particles(const geometry::Pose2D& odom_pose) {
   odom_at_particles_ = odom_pose;
 }
 
-void ParticleFilter::weigh_and_resample(const PreparedScan& scan) {
-  const std::size_t beams = scan.endpoints_in_base.size();
-  log_likelihoods_.resize(particles_.size());
-  double best = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
-    log_likelihoods_[i] = laser_->log_likelihood(scan, particles_[i].pose);
-    best = std::max(best, log_likelihoods_[i]);
-  }
+void ParticleFilter::resample_weighed(const PreparedScan& scan) {
+  const std::size_t beams = scan.beam_count();
+  const double best = *std::max_element(log_likelihoods_.begin(), log_likelihoods_.end());
   // Relative to the best particle, so that a product of 60 beams does not underflow.
   double total = 0.0;
   double agreement = 0.0;
@@ -201,7 +230,8 @@ void ParticleFilter::weigh_and_resample(const PreparedScan& scan) {
   }
   if (++weighings_ % static_cast<std::uint64_t>(options_.resample_interval) != 0) return;
   const bool can_inject = map_.free_space && !map_.free_space->empty() && w_slow_ > 0.0;
-  last_random_fraction_ = can_inject ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  const double fraction = can_inject ? 1.0 - w_fast_ / w_slow_ : 0.0;
+  last_random_fraction_ = fraction >= options_.recovery_min_fraction ? fraction : 0.0;
   particles_ = sampler_.resample(particles_, 0.0, {}, rng_);
   const double r = last_random_fraction_;
   if (r > 0.0) inject_random_particles(r);
@@ -216,8 +246,8 @@ void ParticleFilter::inject_random_particles(double random_fraction) {
   // min(rho / (1 - rho), r / (1 - r)) against the resampled cloud's 1.
   const double r = std::min(random_fraction, 0.99);
   const double rho = options_.kidnap_probability;
-  const auto count = static_cast<std::size_t>(
-      std::ceil(r * static_cast<double>(options_.global_particles)));
+  const auto count =
+      static_cast<std::size_t>(std::ceil(r * static_cast<double>(options_.global_particles)));
   if (count == 0) return;
   const double random_mass = std::min(rho / (1.0 - rho), r / (1.0 - r));
   const double each = random_mass / static_cast<double>(count);

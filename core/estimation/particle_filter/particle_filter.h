@@ -38,8 +38,17 @@ struct ParticleFilterOptions {
   // and long-term averages of the scan likelihood; when the short one drops below the long one,
   // 1 - w_fast / w_slow times global_particles poses from the free space join the resampled cloud
   // (the global density: a share of the tracking cloud leaves a kidnapped robot unfound).
-  double alpha_slow = 0.001;
+  // AMCL suggests 0.001 for alpha_slow; the averages start at the first scan after an
+  // initialisation, and after a global start that scan fits the spread cloud poorly, so at 0.001
+  // w_slow stays near that low value for a thousand updates, and a kidnap in the first hour
+  // injects nothing until w_fast has fallen below it (the simulated Dashgo's corridor kidnap:
+  // recovered in 6-29 s of driving over 10 seeds; with 0.01, 3-15 s).
+  double alpha_slow = 0.01;
   double alpha_fast = 0.1;
+  // No injection while 1 - w_fast / w_slow stays below this: tracking, the two averages cross
+  // back and forth by a few per cent from scan to scan, and each crossing would add hundreds of
+  // random particles to weigh for nothing.
+  double recovery_min_fraction = 0.05;
   // The prior probability, per update, that the robot was carried off. The random particles are
   // drawn at the rate above but weighted by this prior over that rate (importance sampling from
   // a mixture proposal), so they explore without outvoting the cloud unless the scan fits them
@@ -62,6 +71,12 @@ struct ParticleFilterOptions {
   // the scan next best (a room 10 m down the corridor). The one weighing of the dense cloud costs
   // about ten times a tracking update (BENCHMARKS.md).
   std::size_t global_particles = 50000;
+  // At most this many particles are weighed per call of update(); a larger cloud (global
+  // localization, the update after a recovery's injection) is weighed over successive calls with
+  // the scan that started it, the scans meanwhile unused. The call is the control loop's tick:
+  // 50 000 particles at once are about 30 ms, a tick and a half of the Dashgo's 50 Hz loop; 5000
+  // are about 3 ms. 0: the whole cloud in one call (offline, on a log).
+  std::size_t max_weighed_per_update = 5000;
   std::uint64_t seed = 1;
 };
 
@@ -81,6 +96,7 @@ enum class FilterUpdate {
   kWaiting,        // not moved enough, or no scan yet: nothing changed
   kNoUsableBeams,  // the scan had no beam the model uses: nothing changed
   kRejected,       // non-finite odometry: nothing changed
+  kWeighing,       // a part of a large cloud weighed (max_weighed_per_update): no estimate yet
 };
 
 // docs/algorithms.md E4: Monte Carlo localization as AMCL does it: the odometry motion model,
@@ -109,7 +125,10 @@ class ParticleFilter {
   bool initialize_global(const geometry::Pose2D& odom_pose);
 
   // One step with the odometry pose now and the scan taken now (or null). See FilterUpdate.
+  // While a weighing is spread over calls, each call weighs the next part and the scan is unused.
   FilterUpdate update(const geometry::Pose2D& odom_pose, const msgs::LaserScan* scan);
+  // Whether a weighing spread over calls is under way.
+  bool weighing() const { return pending_.has_value(); }
 
   // The pose of the estimate at the last update moved by the odometry since: what a caller
   // reports between updates. Non-finite odometry gives the last estimate.
@@ -141,7 +160,10 @@ class ParticleFilter {
   // The convergence rule at the last update, before the count of consecutive updates.
   bool settled_now() const;
   void move_particles(const geometry::Pose2D& odom_pose);
-  void weigh_and_resample(const PreparedScan& scan);
+  // The next part of the pending weighing; when it was the last, resamples and reports.
+  FilterUpdate continue_weighing();
+  void resample_weighed(const PreparedScan& scan);
+  void finish_update(const geometry::Pose2D& predicted, std::size_t beams);
   // Adds random_fraction x global_particles poses from the free space, weighted by the kidnap
   // prior (see the options), to the resampled cloud.
   void inject_random_particles(double random_fraction);
@@ -157,7 +179,16 @@ class ParticleFilter {
   std::mt19937_64 rng_;
 
   std::vector<WeightedPose> particles_;
-  std::vector<double> log_likelihoods_;  // scratch of weigh_and_resample
+  // A weighing under way: the scan, where the estimate would have been without it, and how far
+  // it got (log_likelihoods_ holds the particles' values up to there, best_ the largest).
+  struct PendingWeighing {
+    PreparedScan scan;
+    geometry::Pose2D predicted;
+    std::size_t weighed = 0;
+    double best = 0.0;
+  };
+  std::optional<PendingWeighing> pending_;
+  std::vector<double> log_likelihoods_;
   // The odometry pose the particles were last moved to; unset until the first call anchors it.
   std::optional<geometry::Pose2D> odom_at_particles_;
   geometry::Pose2D estimate_;

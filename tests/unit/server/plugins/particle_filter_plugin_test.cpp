@@ -61,9 +61,16 @@ TEST(ParticleFilterPlugin, EveryOptionReachesTheFilter) {
     z_rand: 0.1
     sigma_hit_m: 0.1
     laser_max_range_m: 12
+    no_return_beams: false
+    no_return_margin_m: 0.5
+    no_return_clearance_rad: 0.1
+    no_return_weight: 0.6
+    max_no_return_beams: 4
+    max_weighed_per_update: 0
     likelihood_max_distance_m: 1.5
     recovery_alpha_slow: 0.002
     recovery_alpha_fast: 0.2
+    recovery_min_fraction: 0.1
     converged_position_std_m: 0.2
     converged_heading_std_rad: 0.15
     converged_min_cluster_weight: 0.8
@@ -92,9 +99,16 @@ TEST(ParticleFilterPlugin, EveryOptionReachesTheFilter) {
   EXPECT_DOUBLE_EQ(o.laser.z_rand, 0.1);
   EXPECT_DOUBLE_EQ(o.laser.sigma_hit_m, 0.1);
   EXPECT_DOUBLE_EQ(o.laser.range_max_m, 12.0);
+  EXPECT_FALSE(o.laser.no_return_beams);
+  EXPECT_DOUBLE_EQ(o.laser.no_return_margin_m, 0.5);
+  EXPECT_DOUBLE_EQ(o.laser.no_return_clearance_rad, 0.1);
+  EXPECT_DOUBLE_EQ(o.laser.no_return_weight, 0.6);
+  EXPECT_EQ(o.laser.max_no_return_beams, 4);
+  EXPECT_EQ(o.max_weighed_per_update, 0U);
   EXPECT_DOUBLE_EQ(o.field.max_distance_m, 1.5);
   EXPECT_DOUBLE_EQ(o.alpha_slow, 0.002);
   EXPECT_DOUBLE_EQ(o.alpha_fast, 0.2);
+  EXPECT_DOUBLE_EQ(o.recovery_min_fraction, 0.1);
   EXPECT_DOUBLE_EQ(o.converged_position_std_m, 0.2);
   EXPECT_DOUBLE_EQ(o.converged_heading_std_rad, 0.15);
   EXPECT_DOUBLE_EQ(o.converged_min_cluster_weight, 0.8);
@@ -118,9 +132,16 @@ TEST(ParticleFilterPlugin, RefusesBadOptionsNamingTheKey) {
       {"{z_rand: -0.5}", "estimators.particle_filter.z_rand"},
       {"{sigma_hit_m: 0}", "estimators.particle_filter.sigma_hit_m"},
       {"{laser_max_range_m: .inf}", "estimators.particle_filter.laser_max_range_m"},
+      {"{no_return_beams: maybe}", "estimators.particle_filter.no_return_beams"},
+      {"{no_return_margin_m: -1}", "estimators.particle_filter.no_return_margin_m"},
+      {"{no_return_clearance_rad: 2}", "estimators.particle_filter.no_return_clearance_rad"},
+      {"{no_return_weight: 1.1}", "estimators.particle_filter.no_return_weight"},
+      {"{max_no_return_beams: -1}", "estimators.particle_filter.max_no_return_beams"},
+      {"{max_weighed_per_update: -5}", "estimators.particle_filter.max_weighed_per_update"},
       {"{likelihood_max_distance_m: 0}", "estimators.particle_filter.likelihood_max_distance_m"},
       {"{recovery_alpha_slow: 2}", "estimators.particle_filter.recovery_alpha_slow"},
       {"{recovery_alpha_fast: -1}", "estimators.particle_filter.recovery_alpha_fast"},
+      {"{recovery_min_fraction: 1}", "estimators.particle_filter.recovery_min_fraction"},
       {"{converged_position_std_m: 0}", "estimators.particle_filter.converged_position_std_m"},
       {"{converged_heading_std_rad: 7}", "estimators.particle_filter.converged_heading_std_rad"},
       {"{converged_min_cluster_weight: 0}",

@@ -51,16 +51,93 @@ TEST(BeamLikelihood, ThinsTheScanEvenlyToSixtyBeamsFirstAndLastIncluded) {
 TEST(BeamLikelihood, SkipsTheBeamsAmclIgnores) {
   BeamLikelihoodOptions options;
   options.max_beams = 7;
+  options.no_return_beams = false;
   const BeamLikelihood model(single_obstacle_field(), options);
   msgs::LaserScan scan = fan(7, 2.0F);
   scan.ranges_m = {2.0F, kNanF, 6.0F, 7.5F, 0.05F, kInf, 1.0F};  // 6 m: at the range cap
   const PreparedScan prepared = model.prepare(scan);
   ASSERT_EQ(prepared.endpoints_in_base.size(), 2U);
+  EXPECT_TRUE(prepared.free_ray_ends_in_base.empty());
+  EXPECT_EQ(prepared.beam_count(), 2U);
   // The scan's own range_max is the cap when it is the smaller one.
   scan.range_max_m = 1.5F;
   const PreparedScan short_range = model.prepare(scan);
   EXPECT_EQ(short_range.endpoints_in_base.size(), 1U);
   EXPECT_DOUBLE_EQ(short_range.rand_term, 0.5 / 1.5);
+}
+
+TEST(BeamLikelihood, KeepsTheBeamsWithoutAReturnAsFreeRaysShortOfTheRange) {
+  BeamLikelihoodOptions options;
+  options.max_beams = 7;
+  options.no_return_clearance_rad = 0.0;
+  const BeamLikelihood model(single_obstacle_field(), options);
+  msgs::LaserScan scan = fan(7, 2.0F);
+  scan.ranges_m = {2.0F, kNanF, 6.0F, 7.5F, 0.05F, kInf, 1.0F};
+  const PreparedScan prepared = model.prepare(scan);
+  EXPECT_EQ(prepared.endpoints_in_base.size(), 2U);
+  // At the cap, beyond it and infinite; NaN and too near stay out.
+  ASSERT_EQ(prepared.free_ray_ends_in_base.size(), 3U);
+  EXPECT_EQ(prepared.beam_count(), 5U);
+  for (const geometry::Point2D& end : prepared.free_ray_ends_in_base) {
+    EXPECT_NEAR(std::hypot(end.x, end.y), 6.0 - 0.3, 1e-6);
+  }
+  // The third beam looks at -30 deg.
+  EXPECT_NEAR(std::atan2(prepared.free_ray_ends_in_base[0].y, prepared.free_ray_ends_in_base[0].x),
+              -std::numbers::pi / 6.0, 1e-6);
+  // Free rays alone weigh nothing: a lidar with no return at all is blinded.
+  scan.ranges_m.assign(7, kInf);
+  const PreparedScan blind = model.prepare(scan);
+  EXPECT_TRUE(blind.empty());
+}
+
+TEST(BeamLikelihood, OnlyBeamsWellInsideAnOpenSectorBecomeFreeRays) {
+  BeamLikelihoodOptions options;  // 3 deg either side must be open too
+  options.max_beams = 181;
+  const BeamLikelihood model(single_obstacle_field(), options);
+  msgs::LaserScan scan = fan(181, 2.0F);                            // 1 deg apart
+  for (std::size_t i = 80; i <= 100; ++i) scan.ranges_m[i] = kInf;  // an open sector of 21 deg
+  scan.ranges_m[0] = kInf;  // open at the scan's edge: nothing known beyond it
+  const PreparedScan prepared = model.prepare(scan);
+  // Beams 83..97: three open beams either side.
+  EXPECT_EQ(prepared.free_ray_ends_in_base.size(), 10U);  // 15, thinned to max_no_return_beams
+  for (const geometry::Point2D& end : prepared.free_ray_ends_in_base) {
+    EXPECT_LE(std::abs(std::atan2(end.y, end.x)), 7.0 * std::numbers::pi / 180.0 + 1e-6);
+  }
+  // A NaN beside an open beam is no evidence that the neighbourhood is open.
+  scan.ranges_m[90] = kNanF;
+  options.max_no_return_beams = 100;
+  const BeamLikelihood all(single_obstacle_field(), options);
+  EXPECT_EQ(all.prepare(scan).free_ray_ends_in_base.size(), 8U);  // 83..86 and 94..97
+  // A full circle wraps round: the first beam's neighbours are the last ones.
+  msgs::LaserScan circle = fan(360, 2.0F);
+  circle.angle_min_rad = 0.0F;
+  circle.angle_increment_rad = static_cast<float>(2.0 * std::numbers::pi / 360.0);
+  for (const std::size_t i : {357U, 358U, 359U, 0U, 1U, 2U, 3U}) circle.ranges_m[i] = kInf;
+  const PreparedScan round = all.prepare(circle);
+  ASSERT_EQ(round.free_ray_ends_in_base.size(), 1U);
+  EXPECT_NEAR(round.free_ray_ends_in_base[0].y, 0.0, 1e-6);
+}
+
+TEST(BeamLikelihood, SegmentFreeStopsAtOccupiedCellsOnly) {
+  OccupancyGrid grid(100, 100, 0.05, {}, OccupancyGrid::kFree);
+  for (int y = 0; y < 100; ++y) grid.set({50, y}, OccupancyGrid::kOccupied);  // a wall at x 2.5
+  grid.set({10, 10}, OccupancyGrid::kUnknown);
+  const BeamLikelihood model(std::make_shared<const LikelihoodField>(grid));
+  EXPECT_FALSE(model.segment_free({0.5, 1.0}, {4.5, 1.0}));
+  // Diagonally through the one-cell wall, at every offset within a cell.
+  for (double offset = 0.0; offset < 0.05; offset += 0.007) {
+    EXPECT_FALSE(model.segment_free({0.5 + offset, 0.3}, {4.5, 4.1 + offset})) << offset;
+  }
+  // Beside the wall, along it, and ending just short of it.
+  EXPECT_TRUE(model.segment_free({2.3, 0.2}, {2.3, 4.8}));
+  // Along it in the next cell is as good as into it.
+  EXPECT_FALSE(model.segment_free({2.47, 0.2}, {2.47, 4.8}));
+  EXPECT_TRUE(model.segment_free({0.5, 1.0}, {2.4, 1.0}));
+  // Unknown cells are not obstacles; off the grid there is nothing known.
+  EXPECT_TRUE(model.segment_free({0.0, 0.0}, {1.0, 1.0}));
+  EXPECT_TRUE(model.segment_free({-3.0, 1.0}, {-1.0, 1.0}));
+  EXPECT_TRUE(model.segment_free({3.0, 1.0}, {9.0, 1.0}));
+  EXPECT_TRUE(model.segment_free({1.0, 1.0}, {1.0, 1.0}));
 }
 
 TEST(BeamLikelihood, PutsTheEndPointsInTheBaseFrameThroughTheMounting) {
@@ -84,7 +161,7 @@ BeamLikelihoodOptions with(BeamCombination combination) {
 
 // One beam ending on the obstacle, 0.3 m from it, and 2 m (the cap) from it.
 struct OneBeam {
-  PreparedScan scan{{{1.0, 0.0}}, 0.5 / 6.0};
+  PreparedScan scan{{{1.0, 0.0}}, 0.5 / 6.0, {}, {}};
   double on = 0.5 + 0.5 / 6.0;  // p = z_hit + z_rand / range_max
   double near = 0.5 * std::exp(-0.09 / 0.08) + 0.5 / 6.0;
   double off = 0.5 * std::exp(-4.0 / 0.08) + 0.5 / 6.0;
@@ -118,8 +195,58 @@ TEST(BeamLikelihood, ProductIsAmclsLikelihoodFieldProb) {
   EXPECT_NEAR(both, std::log(b.on) + std::log(b.near), 1e-6);
   EXPECT_NEAR(model.beam_agreement(both, 2), std::sqrt(b.on * b.near), 1e-6);
   // A scan with a shorter range than the model's takes the slow path with its own rand term.
-  PreparedScan short_range{{{1.0, 0.0}}, 0.5 / 2.0};
+  PreparedScan short_range{{{1.0, 0.0}}, 0.5 / 2.0, {}, {}};
   EXPECT_NEAR(model.log_likelihood(short_range, b.on_pose), std::log(0.5 + 0.25), 1e-6);
+}
+
+TEST(BeamLikelihood, AFreeRayAcrossAnObstacleScoresAsAMiss) {
+  for (const auto combination : {BeamCombination::kCubedSum, BeamCombination::kProduct}) {
+    BeamLikelihoodOptions options = with(combination);
+    options.no_return_weight = 1.0;  // a ray counts as a return
+    const BeamLikelihood model(single_obstacle_field(), options);
+    const double clear = 0.5 + 0.5 / 6.0;  // p of a hit
+    const double blocked = 0.5 / 6.0;      // p of a miss
+    // One return 1 m ahead, and a ray without a return along the base's +y axis.
+    const PreparedScan returns_only{{{1.0, 0.0}}, 0.5 / 6.0, {0.0, 0.0}, {}};
+    PreparedScan scan = returns_only;
+    scan.free_ray_ends_in_base = {{0.0, 5.7}};
+    // What the free ray adds to the log-likelihood, given the return's own term.
+    const auto added = [&](const Pose2D& pose) {
+      const double with_ray = model.log_likelihood(scan, pose);
+      const double without = model.log_likelihood(returns_only, pose);
+      return combination == BeamCombination::kProduct
+                 ? with_ray - without
+                 : std::log(std::expm1(with_ray) - std::expm1(without));
+    };
+    const double power = combination == BeamCombination::kProduct ? 1.0 : 3.0;
+    // From below the obstacle (centre 3.025, 2.525) the ray runs through it.
+    EXPECT_NEAR(added({3.025, 0.525, 0.0}), power * std::log(blocked), 1e-6);
+    // A metre to its side it passes clear, off the grid at y 5.
+    EXPECT_NEAR(added({2.025, 0.525, 0.0}), power * std::log(clear), 1e-6);
+    // From above, pointing away from it.
+    EXPECT_NEAR(added({3.025, 3.525, 0.0}), power * std::log(clear), 1e-6);
+  }
+}
+
+TEST(BeamLikelihood, AFreeRayCountsForItsWeightOfAReturn) {
+  BeamLikelihoodOptions options = with(BeamCombination::kProduct);
+  options.no_return_weight = 0.3;
+  const BeamLikelihood model(single_obstacle_field(), options);
+  const PreparedScan returns_only{{{1.0, 0.0}}, 0.5 / 6.0, {0.0, 0.0}, {}};
+  PreparedScan scan = returns_only;
+  scan.free_ray_ends_in_base = {{0.0, 5.7}, {0.0, 5.7}};
+  const Pose2D through{3.025, 0.525, 0.0};
+  EXPECT_NEAR(model.log_likelihood(scan, through) - model.log_likelihood(returns_only, through),
+              2 * 0.3 * std::log(0.5 / 6.0), 1e-6);
+  const Pose2D beside{2.025, 0.525, 0.0};
+  EXPECT_NEAR(model.log_likelihood(scan, beside) - model.log_likelihood(returns_only, beside),
+              2 * 0.3 * std::log(0.5 + 0.5 / 6.0), 1e-6);
+  // A pose hopeless even with its rays clear gets them as blocked, unwalked: never more than it
+  // would have had.
+  const double walked = model.log_likelihood(scan, beside);
+  EXPECT_NEAR(model.log_likelihood(scan, beside, walked + 100.0),
+              model.log_likelihood(returns_only, beside) + 2 * 0.3 * std::log(0.5 / 6.0), 1e-6);
+  EXPECT_EQ(model.log_likelihood(scan, beside, walked - 100.0), walked);
 }
 
 TEST(BeamLikelihood, NothingToWeighIsNeutral) {
@@ -187,6 +314,18 @@ TEST(BeamLikelihood, RefusesBadOptionsAndNoField) {
   EXPECT_THROW(BeamLikelihood(field, options), std::invalid_argument);
   options = {};
   options.range_max_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(BeamLikelihood(field, options), std::invalid_argument);
+  options = {};
+  options.no_return_margin_m = -0.1;
+  EXPECT_THROW(BeamLikelihood(field, options), std::invalid_argument);
+  options = {};
+  options.no_return_weight = 1.5;
+  EXPECT_THROW(BeamLikelihood(field, options), std::invalid_argument);
+  options = {};
+  options.no_return_clearance_rad = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(BeamLikelihood(field, options), std::invalid_argument);
+  options = {};
+  options.max_no_return_beams = -1;
   EXPECT_THROW(BeamLikelihood(field, options), std::invalid_argument);
 }
 

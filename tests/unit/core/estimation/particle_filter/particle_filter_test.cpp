@@ -132,6 +132,69 @@ TEST(ParticleFilter, GlobalLocalizationConvergesToTheTruth) {
   EXPECT_LT(heading_error(filter.estimate(), drive.truth()), 5 * kDeg);
 }
 
+TEST(ParticleFilter, ALargeCloudIsWeighedOverCallsWithTheScanThatStartedIt) {
+  Drive drive(8);
+  ParticleFilterOptions at_once;
+  at_once.max_weighed_per_update = 0;
+  ParticleFilterOptions in_parts;  // 5000 per call: the 50 000 of a global start in ten
+  ASSERT_EQ(in_parts.max_weighed_per_update, 5000U);
+  ParticleFilter reference(at_once);
+  ParticleFilter filter(in_parts);
+  for (ParticleFilter* f : {&reference, &filter}) {
+    f->set_map(drive.map());
+    ASSERT_TRUE(f->initialize_global(drive.odom()));
+  }
+  const Pose2D scanned_at = drive.odom();
+  const msgs::LaserScan scan = pf_world::room_scan(drive.room(), drive.truth(), nullptr);
+  ASSERT_EQ(reference.update(scanned_at, &scan), FilterUpdate::kUpdated);
+
+  const Pose2D before = filter.pose_at(scanned_at);
+  EXPECT_EQ(filter.update(scanned_at, &scan), FilterUpdate::kWeighing);
+  EXPECT_TRUE(filter.weighing());
+  // The robot drives on; the scans of the next calls are unused and the estimate waits.
+  for (int call = 2; call <= 9; ++call) {
+    drive.tick(filter);
+    ASSERT_TRUE(filter.weighing()) << call;
+    EXPECT_EQ(filter.sensor_updates(), 0U);
+    const Pose2D reported = filter.pose_at(scanned_at);
+    EXPECT_NEAR(reported.x, before.x, 1e-12);
+    EXPECT_NEAR(reported.y, before.y, 1e-12);
+  }
+  const msgs::LaserScan later = pf_world::room_scan(drive.room(), drive.truth(), nullptr);
+  ASSERT_EQ(filter.update(drive.odom(), &later), FilterUpdate::kUpdated);
+  EXPECT_FALSE(filter.weighing());
+  // The same cloud as weighing it at once with that scan, reported at the scan's odometry.
+  ASSERT_EQ(filter.particles().size(), reference.particles().size());
+  for (std::size_t i = 0; i < filter.particles().size(); ++i) {
+    ASSERT_EQ(filter.particles()[i].pose.x, reference.particles()[i].pose.x) << i;
+    ASSERT_EQ(filter.particles()[i].weight, reference.particles()[i].weight) << i;
+  }
+  const Pose2D now = filter.pose_at(drive.odom());
+  const Pose2D expected = reference.pose_at(drive.odom());
+  EXPECT_NEAR(now.x, expected.x, 1e-9);
+  EXPECT_NEAR(now.y, expected.y, 1e-9);
+  EXPECT_NEAR(now.theta, expected.theta, 1e-9);
+}
+
+TEST(ParticleFilter, ANewStartOrMapEndsAWeighingUnderWay) {
+  Drive drive(8);
+  ParticleFilter filter;
+  filter.set_map(drive.map());
+  const msgs::LaserScan scan = pf_world::room_scan(drive.room(), drive.truth(), nullptr);
+  ASSERT_TRUE(filter.initialize_global(drive.odom()));
+  ASSERT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kWeighing);
+  ASSERT_TRUE(filter.initialize(drive.truth(), diag(1e-4, 1e-4, 1e-4), drive.odom()));
+  EXPECT_FALSE(filter.weighing());
+  EXPECT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kUpdated);
+
+  ASSERT_TRUE(filter.initialize_global(drive.odom()));
+  ASSERT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kWeighing);
+  filter.set_map(drive.map());
+  EXPECT_FALSE(filter.weighing());
+  filter.set_map({});
+  EXPECT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kWaiting);  // no map: not moved
+}
+
 TEST(ParticleFilter, AKidnappedRobotIsFoundAgainByTheRandomParticles) {
   Drive drive(11);
   ParticleFilter filter;
@@ -140,7 +203,6 @@ TEST(ParticleFilter, AKidnappedRobotIsFoundAgainByTheRandomParticles) {
   drive.run_updates(filter, 10);
   ASSERT_TRUE(filter.converged());
   drive.kidnap(3.0);
-  drive.run_updates(filter, 2);
   EXPECT_GT(position_error(filter.estimate(), drive.truth()), 1.0);  // it is lost
   int updates = 0;
   while (position_error(filter.estimate(), drive.truth()) > 0.2 && updates < 60 &&
