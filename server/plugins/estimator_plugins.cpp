@@ -115,6 +115,7 @@ estimation::ParticleFilterOptions read_particle_filter_options(const YAML::Node&
   reader.number("recovery_alpha_fast", filter.alpha_fast, 0.0, 1.0);
   reader.number("recovery_min_fraction", filter.recovery_min_fraction, 0.0, 0.99);
   reader.number("kidnap_probability", filter.kidnap_probability, 0.0, 1.0);
+  reader.number("off_map_log_penalty", filter.off_map_log_penalty, 0.0, 1000.0);
   reader.number("converged_position_std_m", filter.converged_position_std_m, 0.001, 100.0);
   reader.number("converged_heading_std_rad", filter.converged_heading_std_rad, 0.001,
                 std::numbers::pi);

@@ -21,6 +21,10 @@ EstimateStage::EstimateStage(const estimation::OdometryParams& odometry, Estimat
 }
 
 bool EstimateStage::select(const std::string& method, TickContext& context) {
+  // The method already running stays as it is (a PUT of the same value changes nothing): a new
+  // particle filter would restart its recovery averages from the next scan, and a robot
+  // kidnapped just then would never be searched for.
+  if (method == selected_ && estimator_->name() == method) return true;
   auto next = make_(method);
   if (!next) return false;
   selected_ = method;

@@ -39,7 +39,8 @@ class EstimateStage final : public Stage, public MapListener {
   void apply_map(const ActiveMap& map, TickContext& context) override;
 
   // Switches to the registered estimator `method`, starting from the current estimate and with the
-  // active map. False (nothing changed) for an unknown name.
+  // active map; the method already running is kept as it is. False (nothing changed) for an
+  // unknown name.
   bool select(const std::string& method, TickContext& context);
   // Hands the estimate to `estimator` (SLAM while mapping) until restore_selected(); the selected
   // method stays what select() chose.

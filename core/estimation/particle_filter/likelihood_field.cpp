@@ -19,6 +19,14 @@ LikelihoodField::LikelihoodField(const mapping::OccupancyGrid& grid,
   }
   const std::size_t count = grid.cells().size();
   distances_m_.assign(count, static_cast<float>(max_distance_m_));
+  open_.resize(count);
+  std::transform(grid.cells().begin(), grid.cells().end(), open_.begin(),
+                 [](std::uint8_t value) -> std::uint8_t {
+                   return value != mapping::OccupancyGrid::kUnknown &&
+                                  value < mapping::OccupancyGrid::kOccupiedThreshold
+                              ? 1
+                              : 0;
+                 });
   if (count == 0) return;
   // distanceTransform measures to the nearest zero pixel: obstacles are the zeros.
   cv::Mat source(height_, width_, CV_8UC1);
@@ -54,6 +62,21 @@ double LikelihoodField::distance_m(geometry::Point2D point_in_map) const {
   const double cy = std::floor(local.y / resolution_m_);
   if (cx < 0.0 || cy < 0.0 || cx >= width_ || cy >= height_) return max_distance_m_;
   return distance_at({static_cast<int>(cx), static_cast<int>(cy)});
+}
+
+}  // namespace mobot::estimation
+
+namespace mobot::estimation {
+
+bool LikelihoodField::open_at(geometry::Point2D point_in_map) const {
+  if (!std::isfinite(point_in_map.x) || !std::isfinite(point_in_map.y)) return false;
+  const geometry::Point2D local =
+      geometry::transform_point(geometry::inverse(origin_), point_in_map);
+  const double cx = std::floor(local.x / resolution_m_);
+  const double cy = std::floor(local.y / resolution_m_);
+  if (cx < 0.0 || cy < 0.0 || cx >= width_ || cy >= height_) return false;
+  return open_[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) +
+               static_cast<std::size_t>(cx)] != 0;
 }
 
 }  // namespace mobot::estimation

@@ -45,6 +45,9 @@ class LikelihoodField {
   }
   // The distance of the cell holding a map-frame point (max_distance_m off the grid or NaN).
   double distance_m(geometry::Point2D point_in_map) const;
+  // Whether the cell holding a map-frame point was observed and is not occupied: where the map
+  // allows the robot to stand. False off the grid and for NaN.
+  bool open_at(geometry::Point2D point_in_map) const;
 
  private:
   int width_ = 0;
@@ -54,6 +57,7 @@ class LikelihoodField {
   double max_distance_m_ = 2.0;
   bool has_obstacles_ = false;
   std::vector<float> distances_m_;
+  std::vector<std::uint8_t> open_;  // row-major, 1 where observed and not occupied
 };
 
 }  // namespace mobot::estimation

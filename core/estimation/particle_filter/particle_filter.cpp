@@ -26,7 +26,8 @@ void validate(const ParticleFilterOptions& options) {
       !positive(options.converged_position_std_m) || !positive(options.converged_heading_std_rad) ||
       !(options.kidnap_probability >= 0.0) || !(options.kidnap_probability <= 1.0) ||
       !(options.recovery_min_fraction >= 0.0) || !(options.recovery_min_fraction < 1.0) ||
-      options.converged_min_updates < 1 || options.global_particles < 1) {
+      options.converged_min_updates < 1 || options.global_particles < 1 ||
+      !non_negative(options.off_map_log_penalty)) {
     throw std::invalid_argument("particle filter: option out of range");
   }
 }
@@ -159,10 +160,13 @@ FilterUpdate ParticleFilter::continue_weighing() {
   // A particle e^-40 below the best so far is nothing the resampling keeps: its free rays need
   // no walk (BeamLikelihood::log_likelihood).
   constexpr double kNegligibleLog = 40.0;
+  const LikelihoodField& field = laser_->field();
   for (std::size_t i = pending.weighed; i < end; ++i) {
-    log_likelihoods_[i] =
-        laser_->log_likelihood(pending.scan, particles_[i].pose, pending.best - kNegligibleLog);
-    pending.best = std::max(pending.best, log_likelihoods_[i]);
+    const geometry::Pose2D& pose = particles_[i].pose;
+    double value = laser_->log_likelihood(pending.scan, pose, pending.best - kNegligibleLog);
+    if (!field.open_at({pose.x, pose.y})) value -= options_.off_map_log_penalty;
+    log_likelihoods_[i] = value;
+    pending.best = std::max(pending.best, value);
   }
   pending.weighed = end;
   if (end < count) return FilterUpdate::kWeighing;

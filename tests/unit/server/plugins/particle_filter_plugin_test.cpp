@@ -56,6 +56,7 @@ TEST(ParticleFilterPlugin, EveryOptionReachesTheFilter) {
     combination: cubed_sum
     product_exponent: 0.5
     kidnap_probability: 0.001
+    off_map_log_penalty: 7
     converged_min_updates: 4
     z_hit: 0.9
     z_rand: 0.1
@@ -94,6 +95,7 @@ TEST(ParticleFilterPlugin, EveryOptionReachesTheFilter) {
   EXPECT_EQ(o.laser.combination, estimation::BeamCombination::kCubedSum);
   EXPECT_DOUBLE_EQ(o.laser.product_exponent, 0.5);
   EXPECT_DOUBLE_EQ(o.kidnap_probability, 0.001);
+  EXPECT_DOUBLE_EQ(o.off_map_log_penalty, 7.0);
   EXPECT_EQ(o.converged_min_updates, 4);
   EXPECT_DOUBLE_EQ(o.laser.z_hit, 0.9);
   EXPECT_DOUBLE_EQ(o.laser.z_rand, 0.1);
@@ -142,6 +144,7 @@ TEST(ParticleFilterPlugin, RefusesBadOptionsNamingTheKey) {
       {"{recovery_alpha_slow: 2}", "estimators.particle_filter.recovery_alpha_slow"},
       {"{recovery_alpha_fast: -1}", "estimators.particle_filter.recovery_alpha_fast"},
       {"{recovery_min_fraction: 1}", "estimators.particle_filter.recovery_min_fraction"},
+      {"{off_map_log_penalty: -1}", "estimators.particle_filter.off_map_log_penalty"},
       {"{converged_position_std_m: 0}", "estimators.particle_filter.converged_position_std_m"},
       {"{converged_heading_std_rad: 7}", "estimators.particle_filter.converged_heading_std_rad"},
       {"{converged_min_cluster_weight: 0}",

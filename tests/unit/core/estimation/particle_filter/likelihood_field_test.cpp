@@ -90,6 +90,21 @@ TEST(LikelihoodField, PointsOffTheGridOrNotFiniteAreFarFromEverything) {
   EXPECT_EQ(field.distance_at({0, 10}), 1.5);
 }
 
+TEST(LikelihoodField, OpenWhereObservedAndNotOccupied) {
+  OccupancyGrid grid(10, 10, 0.1, {2.0, 3.0, 0.0}, OccupancyGrid::kFree);
+  grid.set({0, 0}, OccupancyGrid::kOccupied);
+  grid.set({1, 0}, OccupancyGrid::kUnknown);
+  grid.set({2, 0}, 64);  // below the occupied threshold
+  const LikelihoodField field(grid);
+  EXPECT_FALSE(field.open_at({2.05, 3.05}));
+  EXPECT_FALSE(field.open_at({2.15, 3.05}));
+  EXPECT_TRUE(field.open_at({2.25, 3.05}));
+  EXPECT_TRUE(field.open_at({2.55, 3.55}));
+  EXPECT_FALSE(field.open_at({1.99, 3.05}));  // off the grid
+  EXPECT_FALSE(field.open_at({2.05, 4.01}));
+  EXPECT_FALSE(field.open_at({std::numeric_limits<double>::quiet_NaN(), 3.05}));
+}
+
 TEST(LikelihoodField, FollowsARotatedOrigin) {
   // A grid whose x axis points along the map's y axis.
   OccupancyGrid grid(10, 10, 0.1, {1.0, 1.0, std::numbers::pi / 2.0}, OccupancyGrid::kFree);

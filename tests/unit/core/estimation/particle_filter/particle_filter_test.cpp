@@ -218,6 +218,39 @@ TEST(ParticleFilter, AKidnappedRobotIsFoundAgainByTheRandomParticles) {
   EXPECT_LT(position_error(filter.estimate(), drive.truth()), 0.15);
 }
 
+TEST(ParticleFilter, ParticlesWhereTheRobotCannotStandAreWeighedDown) {
+  Drive drive(3);
+  // A cloud across the room's west wall (x 0, the unknown margin beyond it), and a scan of two
+  // beams up the wall to the north wall: they fit a pose just outside the room nearly as well
+  // as one inside, so the beams alone keep the outside particles.
+  msgs::LaserScan scan;
+  scan.angle_min_rad = static_cast<float>(std::numbers::pi / 2.0 - 0.01);
+  scan.angle_increment_rad = 0.02F;
+  scan.range_min_m = 0.1F;
+  scan.range_max_m = 30.0F;
+  scan.ranges_m = {4.0F, 4.0F};
+  const auto outside = [&](const ParticleFilter& filter) {
+    double weight = 0.0;
+    for (const WeightedPose& p : filter.particles()) weight += p.pose.x < 0.0 ? p.weight : 0.0;
+    return weight;
+  };
+  for (const double penalty : {20.0, 0.0}) {
+    ParticleFilterOptions options;
+    options.off_map_log_penalty = penalty;
+    options.laser.no_return_beams = false;
+    ParticleFilter filter(options);
+    filter.set_map(drive.map());
+    ASSERT_TRUE(filter.initialize({0.05, 4.0, 0.0}, diag(0.04, 1e-4, 1e-6), drive.odom()));
+    ASSERT_GT(outside(filter), 0.3);
+    ASSERT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kUpdated);
+    if (penalty > 0.0) {
+      EXPECT_LT(outside(filter), 1e-3);
+    } else {
+      EXPECT_GT(outside(filter), 0.1) << "without the penalty the beams alone decide";
+    }
+  }
+}
+
 TEST(ParticleFilter, ConvergenceTakesConsecutiveSettledUpdates) {
   Drive drive;
   ParticleFilterOptions options;
