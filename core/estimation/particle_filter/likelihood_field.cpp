@@ -54,29 +54,25 @@ LikelihoodField::LikelihoodField(const mapping::OccupancyGrid& grid,
   }
 }
 
-double LikelihoodField::distance_m(geometry::Point2D point_in_map) const {
-  if (!std::isfinite(point_in_map.x) || !std::isfinite(point_in_map.y)) return max_distance_m_;
+std::optional<std::size_t> LikelihoodField::index_at(geometry::Point2D point_in_map) const {
+  if (!std::isfinite(point_in_map.x) || !std::isfinite(point_in_map.y)) return std::nullopt;
   const geometry::Point2D local =
       geometry::transform_point(geometry::inverse(origin_), point_in_map);
   const double cx = std::floor(local.x / resolution_m_);
   const double cy = std::floor(local.y / resolution_m_);
-  if (cx < 0.0 || cy < 0.0 || cx >= width_ || cy >= height_) return max_distance_m_;
-  return distance_at({static_cast<int>(cx), static_cast<int>(cy)});
+  if (cx < 0.0 || cy < 0.0 || cx >= width_ || cy >= height_) return std::nullopt;
+  return static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) +
+         static_cast<std::size_t>(cx);
 }
 
-}  // namespace mobot::estimation
-
-namespace mobot::estimation {
+double LikelihoodField::distance_m(geometry::Point2D point_in_map) const {
+  const auto index = index_at(point_in_map);
+  return index ? static_cast<double>(distances_m_[*index]) : max_distance_m_;
+}
 
 bool LikelihoodField::open_at(geometry::Point2D point_in_map) const {
-  if (!std::isfinite(point_in_map.x) || !std::isfinite(point_in_map.y)) return false;
-  const geometry::Point2D local =
-      geometry::transform_point(geometry::inverse(origin_), point_in_map);
-  const double cx = std::floor(local.x / resolution_m_);
-  const double cy = std::floor(local.y / resolution_m_);
-  if (cx < 0.0 || cy < 0.0 || cx >= width_ || cy >= height_) return false;
-  return open_[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width_) +
-               static_cast<std::size_t>(cx)] != 0;
+  const auto index = index_at(point_in_map);
+  return index && open_[*index] != 0;
 }
 
 }  // namespace mobot::estimation

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/geometry/pose2d.h"
@@ -56,6 +58,9 @@ class LikelihoodField {
   geometry::Pose2D origin_;
   double max_distance_m_ = 2.0;
   bool has_obstacles_ = false;
+  // The row-major index of the cell holding a map-frame point; nullopt off the grid or for NaN.
+  std::optional<std::size_t> index_at(geometry::Point2D point_in_map) const;
+
   std::vector<float> distances_m_;
   std::vector<std::uint8_t> open_;  // row-major, 1 where observed and not occupied
 };
