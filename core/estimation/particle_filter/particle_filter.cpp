@@ -64,16 +64,15 @@ ParticleFilter::ParticleFilter(const ParticleFilterOptions& options)
 }
 
 void ParticleFilter::set_map(ParticleFilterMap map) {
+  // A weighing under way was against the old map: it ends, the particles moved.
+  abandon_weighing();
   if (!map.field) {
     map_ = {};
     laser_.reset();
-    pending_.reset();
     return;
   }
   laser_ = std::make_unique<BeamLikelihood>(map.field, options_.laser);
   map_ = std::move(map);
-  // A weighing under way was against the old map: the particles stay where it moved them.
-  pending_.reset();
   // A new map is new evidence for the same odometry.
   force_update_ = true;
 }
@@ -145,11 +144,22 @@ FilterUpdate ParticleFilter::update(const geometry::Pose2D& odom_pose,
   PreparedScan prepared = laser_->prepare(*scan);
   if (prepared.empty()) return FilterUpdate::kNoUsableBeams;
   const geometry::Pose2D predicted = pose_at(odom_pose);
-  move_particles(odom_pose);
+  // Each particle is moved just before it is weighed, so a large cloud's motion is spread over
+  // the calls with its weighing (the same draws in the same order as moving them all first).
+  const OdometryStep step = motion_.step(*odom_at_particles_, odom_pose);
+  odom_at_particles_ = odom_pose;
   log_likelihoods_.resize(particles_.size());
-  pending_ =
-      PendingWeighing{std::move(prepared), predicted, 0, -std::numeric_limits<double>::infinity()};
+  pending_ = PendingWeighing{std::move(prepared), step, predicted, 0,
+                             -std::numeric_limits<double>::infinity()};
   return continue_weighing();
+}
+
+void ParticleFilter::abandon_weighing() {
+  if (!pending_) return;
+  for (std::size_t i = pending_->weighed; i < particles_.size(); ++i) {
+    particles_[i].pose = motion_.sample(pending_->step, particles_[i].pose, rng_);
+  }
+  pending_.reset();
 }
 
 FilterUpdate ParticleFilter::continue_weighing() {
@@ -162,6 +172,7 @@ FilterUpdate ParticleFilter::continue_weighing() {
   constexpr double kNegligibleLog = 40.0;
   const LikelihoodField& field = laser_->field();
   for (std::size_t i = pending.weighed; i < end; ++i) {
+    particles_[i].pose = motion_.sample(pending.step, particles_[i].pose, rng_);
     const geometry::Pose2D& pose = particles_[i].pose;
     double value = laser_->log_likelihood(pending.scan, pose, pending.best - kNegligibleLog);
     if (!field.open_at({pose.x, pose.y})) value -= options_.off_map_log_penalty;

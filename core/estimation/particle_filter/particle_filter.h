@@ -83,11 +83,11 @@ struct ParticleFilterOptions {
   // than before, so nothing drew the random particles in; the simulated Dashgo's belief sat 0.1 m
   // outside the office for ten seconds.
   double off_map_log_penalty = 20.0;
-  // At most this many particles are weighed per call of update(); a larger cloud (global
-  // localization, the update after a recovery's injection) is weighed over successive calls with
-  // the scan that started it, the scans meanwhile unused. The call is the control loop's tick:
-  // 50 000 particles at once are about 30 ms, a tick and a half of the Dashgo's 50 Hz loop; 5000
-  // are about 3 ms. 0: the whole cloud in one call (offline, on a log).
+  // At most this many particles are moved and weighed per call of update(); a larger cloud
+  // (global localization, the update after a recovery's injection) is done over successive calls
+  // with the scan that started it, the scans meanwhile unused. The call is the control loop's
+  // tick: 50 000 particles at once are about 27 ms, more than a period of the Dashgo's 50 Hz
+  // loop; 5000 are about 4 ms. 0: the whole cloud in one call (offline, on a log).
   std::size_t max_weighed_per_update = 5000;
   std::uint64_t seed = 1;
 };
@@ -153,6 +153,8 @@ class ParticleFilter {
   // A map, at least one scan update since the last initialisation, and the rule of the options.
   bool converged() const;
 
+  // While a weighing is spread over calls, the particles not yet reached are where the last
+  // update left them.
   std::span<const WeightedPose> particles() const { return particles_; }
   std::size_t cluster_count() const { return cluster_count_; }
   double heaviest_cluster_weight() const { return heaviest_cluster_weight_; }
@@ -172,6 +174,8 @@ class ParticleFilter {
   // The convergence rule at the last update, before the count of consecutive updates.
   bool settled_now() const;
   void move_particles(const geometry::Pose2D& odom_pose);
+  // Ends a weighing under way unfinished, moving the particles it had not reached.
+  void abandon_weighing();
   // The next part of the pending weighing; when it was the last, resamples and reports.
   FilterUpdate continue_weighing();
   void resample_weighed(const PreparedScan& scan);
@@ -191,10 +195,12 @@ class ParticleFilter {
   std::mt19937_64 rng_;
 
   std::vector<WeightedPose> particles_;
-  // A weighing under way: the scan, where the estimate would have been without it, and how far
-  // it got (log_likelihoods_ holds the particles' values up to there, best_ the largest).
+  // A weighing under way: the scan, the motion, where the estimate would have been without it,
+  // and how far it got (the particles up to there are moved and their values are in
+  // log_likelihoods_, best the largest).
   struct PendingWeighing {
     PreparedScan scan;
+    OdometryStep step;  // the motion the particles not yet weighed have still to make
     geometry::Pose2D predicted;
     std::size_t weighed = 0;
     double best = 0.0;

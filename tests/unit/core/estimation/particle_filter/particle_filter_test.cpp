@@ -189,6 +189,25 @@ TEST(ParticleFilter, ANewStartOrMapEndsAWeighingUnderWay) {
 
   ASSERT_TRUE(filter.initialize_global(drive.odom()));
   ASSERT_EQ(filter.update(drive.odom(), &scan), FilterUpdate::kWeighing);
+  // A new map: the weighing ends, and every particle has made the motion (here a turn of the
+  // odometry by 0.5 rad: none is left where it was, and the headings moved 0.5 rad on average).
+  ParticleFilter turned(filter.options());
+  turned.set_map(drive.map());
+  ASSERT_TRUE(turned.initialize_global(drive.odom()));
+  const std::vector<WeightedPose> before(turned.particles().begin(), turned.particles().end());
+  const Pose2D odom_turned{drive.odom().x, drive.odom().y, drive.odom().theta + 0.5};
+  ASSERT_EQ(turned.update(odom_turned, &scan), FilterUpdate::kWeighing);
+  turned.set_map(drive.map());
+  EXPECT_FALSE(turned.weighing());
+  ASSERT_EQ(turned.particles().size(), before.size());
+  double turn_sum = 0.0;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const double turn =
+        geometry::wrap_angle(turned.particles()[i].pose.theta - before[i].pose.theta);
+    ASSERT_NE(turn, 0.0) << i;
+    turn_sum += turn;
+  }
+  EXPECT_NEAR(turn_sum / static_cast<double>(before.size()), 0.5, 0.05);
   filter.set_map(drive.map());
   EXPECT_FALSE(filter.weighing());
   filter.set_map({});
