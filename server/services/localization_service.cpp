@@ -43,7 +43,7 @@ void LocalizationService::localize_globally(api::Completion<std::string> done) {
       return done(api::DomainError{api::ErrorKind::kConflict, "unsupported_method",
                                    "this robot has no particle filter"});
     }
-    if (estimate_.selected() != kGlobalMethod) estimate_.select(kGlobalMethod, context);
+    estimate_.select(kGlobalMethod, context);  // kept as it is when already running
     if (!estimate_.start_global_localization(context)) {
       return done(api::DomainError{api::ErrorKind::kConflict, "no_map",
                                    "the active map has no free space to localize in"});

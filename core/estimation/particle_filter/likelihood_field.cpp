@@ -19,14 +19,7 @@ LikelihoodField::LikelihoodField(const mapping::OccupancyGrid& grid,
   }
   const std::size_t count = grid.cells().size();
   distances_m_.assign(count, static_cast<float>(max_distance_m_));
-  open_.resize(count);
-  std::transform(grid.cells().begin(), grid.cells().end(), open_.begin(),
-                 [](std::uint8_t value) -> std::uint8_t {
-                   return value != mapping::OccupancyGrid::kUnknown &&
-                                  value < mapping::OccupancyGrid::kOccupiedThreshold
-                              ? 1
-                              : 0;
-                 });
+  open_.assign(count, 0);
   if (count == 0) return;
   // distanceTransform measures to the nearest zero pixel: obstacles are the zeros.
   cv::Mat source(height_, width_, CV_8UC1);
@@ -36,6 +29,9 @@ LikelihoodField::LikelihoodField(const mapping::OccupancyGrid& grid,
       const bool occupied = grid.is_occupied({x, y});
       has_obstacles_ = has_obstacles_ || occupied;
       row[x] = occupied ? 0 : 1;
+      open_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
+            static_cast<std::size_t>(x)] =
+          !occupied && grid.at({x, y}) != mapping::OccupancyGrid::kUnknown ? 1 : 0;
     }
   }
   if (!has_obstacles_) return;

@@ -183,7 +183,7 @@ FilterUpdate ParticleFilter::continue_weighing() {
   if (end < count) return FilterUpdate::kWeighing;
   const PendingWeighing done = std::move(pending);
   pending_.reset();
-  resample_weighed(done.scan);
+  resample_weighed(done.scan, done.best);
   finish_update(done.predicted, done.scan.beam_count());
   return FilterUpdate::kUpdated;
 }
@@ -218,9 +218,8 @@ void ParticleFilter::move_particles(const geometry::Pose2D& odom_pose) {
   odom_at_particles_ = odom_pose;
 }
 
-void ParticleFilter::resample_weighed(const PreparedScan& scan) {
+void ParticleFilter::resample_weighed(const PreparedScan& scan, double best) {
   const std::size_t beams = scan.beam_count();
-  const double best = *std::max_element(log_likelihoods_.begin(), log_likelihoods_.end());
   // Relative to the best particle, so that a product of 60 beams does not underflow.
   double total = 0.0;
   double agreement = 0.0;

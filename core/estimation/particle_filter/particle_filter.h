@@ -178,7 +178,8 @@ class ParticleFilter {
   void abandon_weighing();
   // The next part of the pending weighing; when it was the last, resamples and reports.
   FilterUpdate continue_weighing();
-  void resample_weighed(const PreparedScan& scan);
+  // `best`: the largest of log_likelihoods_, kept by the weighing.
+  void resample_weighed(const PreparedScan& scan, double best);
   void finish_update(const geometry::Pose2D& predicted, std::size_t beams);
   // Adds random_fraction x global_particles poses from the free space, weighted by the kidnap
   // prior (see the options), to the resampled cloud.
