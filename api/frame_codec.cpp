@@ -243,6 +243,9 @@ nlohmann::json snapshot_json(const RobotSnapshot& snapshot) {
   nlohmann::json sensors = nlohmann::json::object();
   for (const auto& [name, health] : snapshot.sensors) {
     sensors[name] = {{"ok", health.ok}, {"rate_hz", health.rate_hz}};
+    // Why not: "stale" (silent past its time-out) or the driver's word ("missing", "silent",
+    // "checksum", "garbage", ...).
+    if (!health.ok) sensors[name]["reason"] = health.reason;
   }
   return {
       {"t", snapshot.t_s},

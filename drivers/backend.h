@@ -1,8 +1,10 @@
 #pragma once
 
 #include <string_view>
+#include <vector>
 
 #include "core/kinematics/robot_geometry.h"
+#include "drivers/device_status.h"
 #include "drivers/driver_set.h"
 #include "drivers/sim_control.h"
 
@@ -21,6 +23,8 @@ class Backend {
   // simulator steps its world; real devices live in real time and only collect what arrived.
   virtual void advance(double dt_s) = 0;
   virtual SimControl* sim_control() { return nullptr; }
+  // The real devices' counters for /metrics; the simulator has none.
+  virtual std::vector<DeviceCounters> device_counters() const { return {}; }
 };
 
 }  // namespace mobot::drivers

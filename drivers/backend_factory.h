@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <yaml-cpp/yaml.h>
+
 #include "drivers/backend.h"
 
 namespace mobot::drivers {
@@ -33,6 +35,11 @@ struct BackendOptions {
   double sonar_rate_hz = 10.0;
   double compass_rate_hz = 10.0;
   SimOdometryErrors odometry_errors;
+  // The real devices (`--backend hardware`): the config's hardware section, one entry per role
+  // (base, laser, ir, tilt, bus, camera), each {driver, device, baud, ...}.
+  YAML::Node hardware;
+  // The base is polled at the control loop's rate.
+  double control_rate_hz = 50.0;
 };
 
 // A backend that cannot be made as configured; the message names what is wrong.

@@ -21,6 +21,8 @@ class BaseDriver {
   virtual std::optional<msgs::WheelEncoders> read_encoders(double now_s) = 0;
   // What the base ran into since the last call (bumpers, stalls), oldest first.
   virtual std::vector<msgs::Contact> take_contacts() = 0;
+  // Whether the base's own emergency button is pressed; a base without one never is.
+  virtual bool estop_button_pressed() const { return false; }
   virtual DeviceStatus status() const = 0;
 };
 

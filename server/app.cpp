@@ -49,6 +49,42 @@ db::Database open_database(const Config& config) {
   return db::Database::open(config.server.data_dir / "mobot.sqlite");
 }
 
+// The real devices' counters, one sample per device of each metric.
+std::string device_metrics_text(const std::vector<drivers::DeviceCounters>& devices) {
+  struct Metric {
+    const char* name;
+    const char* type;
+    const char* help;
+    double (*value)(const drivers::DeviceCounters&);
+  };
+  static constexpr Metric kMetrics[] = {
+      {"mobot_device_ok", "gauge", "The device answers as it should (1) or not (0).",
+       [](const drivers::DeviceCounters& d) { return d.status.ok ? 1.0 : 0.0; }},
+      {"mobot_device_bytes_total", "counter", "Bytes received from the device.",
+       [](const drivers::DeviceCounters& d) { return static_cast<double>(d.bytes); }},
+      {"mobot_device_frames_total", "counter", "Complete replies, packets or scans received.",
+       [](const drivers::DeviceCounters& d) { return static_cast<double>(d.frames); }},
+      {"mobot_device_checksum_errors_total", "counter",
+       "Frames that failed their checksum or did not parse.",
+       [](const drivers::DeviceCounters& d) { return static_cast<double>(d.checksum_errors); }},
+      {"mobot_device_reconnects_total", "counter", "Times the device was reopened after a fault.",
+       [](const drivers::DeviceCounters& d) { return static_cast<double>(d.reconnects); }},
+  };
+  std::string out;
+  for (const Metric& metric : kMetrics) {
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+      const std::string labels = "device=\"" + devices[i].name + "\"";
+      if (i == 0) {
+        api::append_metric(out, metric.name, metric.type, metric.help, metric.value(devices[i]),
+                           labels);
+      } else {
+        api::append_sample(out, metric.name, metric.value(devices[i]), labels);
+      }
+    }
+  }
+  return out;
+}
+
 drivers::BackendOptions backend_options(const Config& config) {
   drivers::BackendOptions options;
   options.backend = config.backend;
@@ -60,6 +96,9 @@ drivers::BackendOptions backend_options(const Config& config) {
   options.sonar_rate_hz = config.robot.sonar_rate_hz;
   options.compass_rate_hz = config.robot.compass_rate_hz;
   options.odometry_errors = config.sim.odometry;
+  if (config.document && config.document["hardware"])
+    options.hardware = config.document["hardware"];
+  options.control_rate_hz = config.robot.control_rate_hz;
   return options;
 }
 
@@ -225,6 +264,7 @@ std::string App::metrics_text() const {
     }
     first = false;
   }
+  out += device_metrics_text(robot_->backend().device_counters());
   out += robot_->runtime().metrics_text() + recorder_->metrics_text();
   api::append_metric(out, "mobot_uptime_seconds", "gauge", "Seconds since start.", uptime_s());
   return out;

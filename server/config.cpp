@@ -128,13 +128,34 @@ void read_sim_odometry(const Reader& reader, SimSection& sim) {
   sim.odometry.step_noise_fraction = number("step_noise_fraction", 0.0, 0.3);
 }
 
+// The sensors whose silence or fault stops the robot: a list of known sensor names.
+void read_required_sensors(const Reader& reader, RobotSection& robot) {
+  const YAML::Node node = reader.lookup("robot", "required_sensors");
+  if (!node) return;
+  static const std::set<std::string> kNames{"encoders", "laser", "sonar", "ir", "compass"};
+  std::vector<std::string> names;
+  try {
+    names = node.as<std::vector<std::string>>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError("robot.required_sensors: expected a list of sensor names");
+  }
+  for (const std::string& name : names) {
+    if (!kNames.contains(name)) {
+      throw ConfigError("robot.required_sensors: '" + name +
+                        "' is not one of encoders, laser, sonar, ir, compass");
+    }
+  }
+  robot.required_sensors = names;
+}
+
 // A misspelt key would otherwise be ignored silently and the default used instead.
 void reject_unknown_keys(const YAML::Node& root) {
   static const std::map<std::string, std::set<std::string>> kKnown{
       {"server", {"bind", "port", "data_dir", "web_dir"}},
       {"robot",
        {"name", "profile", "kinematics", "control_rate_hz", "realtime_priority", "laser_rate_hz",
-        "sonar_rate_hz", "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms"}},
+        "sonar_rate_hz", "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms",
+        "required_sensors"}},
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2",
         "max_angular_accel_radps2"}},
@@ -149,10 +170,9 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"stream", {"max_frames_per_topic"}},
   };
   // Plugin sections: each plugin checks its own keys (server/plugins).
-  static const std::set<std::string> kScalars{"backend",    "run_name",    "mux",
-                                              "planners",   "controllers", "estimators",
-                                              "kinematics", "slam",        "costmaps",
-                                              "ir_safety",  "sonar_emergency"};
+  static const std::set<std::string> kScalars{
+      "backend",    "run_name", "mux",      "planners",  "controllers",     "estimators",
+      "kinematics", "slam",     "costmaps", "ir_safety", "sonar_emergency", "hardware"};
   for (const auto& entry : root) {
     const auto key = entry.first.as<std::string>();
     if (kScalars.contains(key)) continue;
@@ -209,6 +229,7 @@ Config load_config(const std::filesystem::path& file) {
   reader.read_number("robot", "compass_rate_hz", robot.compass_rate_hz, 1.0, 50.0);
   reader.read_number("robot", "sensor_timeout_s", robot.sensor_timeout_s, 0.05, 10.0);
   reader.read_int("robot", "teleop_ttl_ms", robot.teleop_ttl_ms, 50, 1000);
+  read_required_sensors(reader, robot);
   reader.read_number("limits", "max_linear_mps", robot.limits.max_linear_mps, 0.01, 10.0);
   reader.read_number("limits", "max_angular_radps", robot.limits.max_angular_radps, 0.01, 10.0);
   reader.read_number("limits", "max_linear_accel_mps2", robot.limits.max_linear_accel_mps2, 0.01,
@@ -260,6 +281,10 @@ void validate_config(const Config& config) {
     throw ConfigError("backend: '" + config.backend + "' is not one of sim, hardware");
   }
   check_range("sim.time_scale", config.sim.time_scale, 0.1, 100.0);
+  if (config.backend == "hardware" && config.sim.time_scale != 1.0) {
+    throw ConfigError("sim.time_scale: the hardware backend runs in real time (1), not " +
+                      std::to_string(config.sim.time_scale));
+  }
   check_range("robot.laser_rate_hz", config.robot.laser_rate_hz, 1.0, config.robot.control_rate_hz);
   // The names the config selects and every plugin's own section; the geometry only matters
   // when instances are made.

@@ -66,6 +66,7 @@ struct TickContext {
     compass.reset();
     bearings.reset();
     contacts.clear();
+    estop_button = false;
     device_faults.clear();
     scan_blocks_path = false;
     mux_requests.clear();
@@ -94,6 +95,8 @@ struct TickContext {
   std::optional<msgs::CompassReading> compass;
   std::optional<msgs::LandmarkBearings> bearings;
   std::vector<msgs::Contact> contacts;
+  // The base's own emergency button is held down.
+  bool estop_button = false;
   // Devices whose driver says they are not ok: name -> reason.
   std::vector<std::pair<std::string, std::string>> device_faults;
 

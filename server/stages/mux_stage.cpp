@@ -5,6 +5,14 @@ namespace mobot::server {
 MuxStage::MuxStage(std::vector<control::MuxSource> sources) : mux_(std::move(sources)) {}
 
 void MuxStage::step(TickContext& context) {
+  // The base's own red button engages the e-stop, and holds it while it is down; the API
+  // releases it once the button is up.
+  button_held_ = context.estop_button;
+  if (button_held_ && !estop_) {
+    estop_ = true;
+    drop_commands(context);
+    context.event("estop", {{"engaged", true}, {"source", "button"}});
+  }
   for (const auto& request : context.mux_requests) {
     // Nothing commanded under e-stop may drive the robot when it is released.
     if (request.command && !estop_) {
@@ -43,7 +51,7 @@ void MuxStage::submit_teleop(const msgs::Twist& command, double ttl_s, TickConte
 }
 
 bool MuxStage::set_estop(bool engaged, TickContext& context) {
-  if (engaged != estop_) {
+  if (engaged != estop_ && (engaged || !button_held_)) {
     estop_ = engaged;
     if (engaged) drop_commands(context);
     context.event("estop", {{"engaged", engaged}});

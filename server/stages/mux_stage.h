@@ -20,7 +20,8 @@ class MuxStage final : public Stage {
   void step(TickContext& context) override;
 
   void submit_teleop(const msgs::Twist& command, double ttl_s, TickContext& context);
-  // Engaging drops every pending command; returns the state after the request.
+  // Engaging drops every pending command; returns the state after the request (still engaged
+  // while the base's e-stop button is held down).
   bool set_estop(bool engaged, TickContext& context);
   // Forgets every pending command (e-stop, collision, reset): none of them timed out.
   void drop_commands(TickContext& context);
@@ -32,6 +33,7 @@ class MuxStage final : public Stage {
 
   control::CommandMux mux_;
   bool estop_ = false;
+  bool button_held_ = false;
   bool teleop_was_active_ = false;
   msgs::Twist last_teleop_;
 };

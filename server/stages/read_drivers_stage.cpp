@@ -18,6 +18,7 @@ void ReadDriversStage::step(TickContext& context) {
   drivers::BaseDriver& base = *drivers_.base;
   context.encoders = base.read_encoders(context.now_s);
   context.contacts = base.take_contacts();
+  context.estop_button = base.estop_button_pressed();
   if (const auto status = base.status(); !status.ok) {
     context.device_faults.emplace_back("encoders", status.reason);
   }

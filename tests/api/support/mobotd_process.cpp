@@ -67,7 +67,7 @@ MobotdProcess::~MobotdProcess() {
 void MobotdProcess::start() {
   std::vector<std::string> args{MOBOTD_PATH,
                                 "--backend",
-                                "sim",
+                                options_.backend,
                                 "--port",
                                 "0",
                                 "--bind",

@@ -16,6 +16,7 @@ class MobotdProcess {
  public:
   struct Options {
     std::vector<std::string> extra_args;
+    std::string backend = "sim";
     double time_scale = 10.0;
     std::filesystem::path data_dir;  // empty: a fresh temporary directory, removed at the end
     std::string token = "test-admin-token";

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "tools/emulate/device_line.h"
+
+namespace mobot::emulate::testing {
+
+// One emulated device on a pty in a temporary directory, stepped every millisecond by its own
+// thread: what a driver under test opens as its device.
+class LineHarness {
+ public:
+  explicit LineHarness(std::unique_ptr<EmulatedDevice> device)
+      : dir_(std::filesystem::temp_directory_path() /
+             ("mobot-line-" + std::to_string(::getpid()) + "-" + std::to_string(++counter_))) {
+    std::filesystem::create_directories(dir_);
+    line_ = std::make_unique<DeviceLine>(std::move(device), dir_ / "device", 7);
+    thread_ = std::jthread([this](const std::stop_token& stop) {
+      while (!stop.stop_requested()) {
+        {
+          const std::lock_guard lock(mutex_);
+          line_->step(seconds());
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    });
+  }
+  ~LineHarness() {
+    thread_.request_stop();
+    thread_.join();
+    line_.reset();
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+
+  std::filesystem::path path() const { return dir_ / "device"; }
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  // Runs `action` on the line between two steps.
+  void with_line(const std::function<void(DeviceLine&)>& action) {
+    const std::lock_guard lock(mutex_);
+    action(*line_);
+  }
+
+ private:
+  static inline int counter_ = 0;
+  std::filesystem::path dir_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::mutex mutex_;
+  std::unique_ptr<DeviceLine> line_;
+  std::jthread thread_;
+};
+
+// Polls `condition` every 5 ms for up to `timeout_s`.
+inline bool eventually(const std::function<bool()>& condition, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return condition();
+}
+
+}  // namespace mobot::emulate::testing

@@ -1,0 +1,135 @@
+#include "tools/emulate/emulated_robot.h"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "drivers/sim/robot_profile.h"
+#include "tools/emulate/devices/dashgo_base_device.h"
+#include "tools/emulate/devices/sharp_ir_device.h"
+#include "tools/emulate/devices/ydlidar_g4_device.h"
+
+namespace mobot::emulate {
+namespace {
+
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string word; in >> word;) out.push_back(word);
+  return out;
+}
+
+}  // namespace
+
+EmulatedRobot::EmulatedRobot(EmulatedRobotOptions options)
+    : options_(std::move(options)), world_(options_.world) {
+  std::filesystem::create_directories(options_.link_dir);
+  std::uint64_t seed = options_.seed;
+  // Each device's link is named after its role in the hardware config (base, laser, ir).
+  auto add = [&](const std::string& role, std::unique_ptr<EmulatedDevice> device) {
+    names_.push_back(role);
+    lines_.push_back(
+        std::make_unique<DeviceLine>(std::move(device), options_.link_dir / role, ++seed));
+  };
+  if (options_.robot == "dashgo") {
+    const sim::RobotProfile profile = sim::dashgo_d1_profile();
+    DashgoBaseDeviceOptions base;
+    base.wheel_radius_m = profile.wheel_radius_m;
+    base.track_m = profile.track_m;
+    base.ticks_per_wheel_rev = static_cast<int>(profile.ticks_per_wheel_rev);
+    base.sonars_in_base = profile.sonars_in_base;
+    base.sonar_height_m = profile.sonar_height_m;
+    base.sonar_range_max_m = profile.sonar_range_max_m;
+    base.body_radius_m = profile.footprint_width_m / 2.0;
+    base.seed = ++seed;
+    auto base_device = std::make_unique<DashgoBaseDevice>(base, world_);
+    DashgoBaseDevice* base_model = base_device.get();
+    add("base", std::move(base_device));
+    YdlidarG4Device::Options laser;
+    laser.mounting_pose = profile.laser_in_base;
+    laser.height_m = profile.laser_height_m;
+    laser.min_range_m = profile.laser_range_min_m;
+    laser.max_range_m = profile.laser_range_max_m;
+    laser.seed = ++seed;
+    add("laser", std::make_unique<YdlidarG4Device>(world_, laser));
+    SharpIrDeviceOptions ir;
+    ir.sensors_in_base = profile.ir_sensors_in_base;
+    ir.height_m = profile.ir_height_m;
+    ir.adc = profile.ir_adc;
+    ir.seed = ++seed;
+    add("ir", std::make_unique<SharpIrDevice>(ir, world_));
+    extra_command_ = [base_model](const std::vector<std::string>& args) -> std::string {
+      if (args.size() == 2 && args[0] == "estop" && (args[1] == "on" || args[1] == "off")) {
+        base_model->set_estop_button(args[1] == "on");
+        return "ok";
+      }
+      if (args.size() == 1 && args[0] == "wheels") {
+        return "wheels " + std::to_string(base_model->target_left_tpf()) + " " +
+               std::to_string(base_model->target_right_tpf());
+      }
+      return "error unknown command";
+    };
+  } else {
+    throw std::invalid_argument("robot '" + options_.robot + "' is not one of dashgo");
+  }
+}
+
+void EmulatedRobot::step(double now_s) {
+  const std::lock_guard lock(mutex_);
+  for (const auto& line : lines_) line->step(now_s);
+}
+
+DeviceLine* EmulatedRobot::line_named(const std::string& name) {
+  for (std::size_t i = 0; i < lines_.size(); ++i) {
+    if (names_[i] == name) return lines_[i].get();
+  }
+  return nullptr;
+}
+
+std::string EmulatedRobot::command(const std::string& text, double now_s) {
+  const std::lock_guard lock(mutex_);
+  const std::vector<std::string> args = words(text);
+  if (args.empty()) return "error empty command";
+  if (args[0] == "fault" && (args.size() == 3 || args.size() == 4)) {
+    DeviceLine* line = line_named(args[1]);
+    const std::optional<LineFault> fault = line_fault_named(args[2]);
+    if (!line) return "error no device " + args[1];
+    if (!fault) return "error no fault " + args[2] + " (drop stall garbage checksum unplug)";
+    const double duration_s = args.size() == 4 ? std::strtod(args[3].c_str(), nullptr) : 0.0;
+    line->set_fault(*fault, now_s, duration_s);
+    return "ok";
+  }
+  if (args[0] == "clear" && args.size() == 2) {
+    DeviceLine* line = line_named(args[1]);
+    if (!line) return "error no device " + args[1];
+    line->clear_fault();
+    return "ok";
+  }
+  if (args[0] == "pose" && args.size() == 1) {
+    const geometry::Pose2D pose = world_.base_pose();
+    std::ostringstream out;
+    out << "pose " << pose.x << ' ' << pose.y << ' ' << pose.theta;
+    return out.str();
+  }
+  if (args[0] == "set_pose" && args.size() == 4) {
+    world_.set_base_pose({std::strtod(args[1].c_str(), nullptr),
+                          std::strtod(args[2].c_str(), nullptr),
+                          std::strtod(args[3].c_str(), nullptr)});
+    return "ok";
+  }
+  return extra_command_ ? extra_command_(args) : "error unknown command";
+}
+
+std::vector<std::pair<std::string, std::filesystem::path>> EmulatedRobot::links() const {
+  std::vector<std::pair<std::string, std::filesystem::path>> out;
+  for (std::size_t i = 0; i < lines_.size(); ++i) {
+    out.emplace_back(names_[i], lines_[i]->port().link_path());
+  }
+  return out;
+}
+
+geometry::Pose2D EmulatedRobot::base_pose() const {
+  const std::lock_guard lock(mutex_);
+  return world_.base_pose();
+}
+
+}  // namespace mobot::emulate

@@ -1,0 +1,49 @@
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "tools/emulate/device_line.h"
+#include "tools/emulate/floor_plan_world.h"
+
+namespace mobot::emulate {
+
+struct EmulatedRobotOptions {
+  std::string robot = "dashgo";    // dashgo | r1
+  std::filesystem::path link_dir;  // where the devices' links appear: DIR/base, DIR/laser, ...
+  sim::World world;
+  std::uint64_t seed = 1;
+};
+
+// The devices of one robot on their ptys, around one shared world: the emulated base moves the
+// pose its lidar scans from. Driven by step() from one thread; command() may come from another.
+class EmulatedRobot {
+ public:
+  explicit EmulatedRobot(EmulatedRobotOptions options);
+
+  // One pass over every line at `now_s` (seconds since start).
+  void step(double now_s);
+  // A line of the control protocol (see tools/emulate/main.cpp); returns the answer line.
+  std::string command(const std::string& line, double now_s);
+
+  // The devices' names and their links, in the order they were made.
+  std::vector<std::pair<std::string, std::filesystem::path>> links() const;
+  geometry::Pose2D base_pose() const;
+
+ private:
+  DeviceLine* line_named(const std::string& name);
+
+  EmulatedRobotOptions options_;
+  FloorPlanWorld world_;
+  mutable std::mutex mutex_;
+  std::vector<std::unique_ptr<DeviceLine>> lines_;
+  std::vector<std::string> names_;  // the role of each line
+  // Robot-specific commands (the Dashgo's e-stop button).
+  std::function<std::string(const std::vector<std::string>&)> extra_command_;
+};
+
+}  // namespace mobot::emulate
