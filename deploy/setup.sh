@@ -10,6 +10,7 @@ DEB_PACKAGES=(
   libmodbus-dev
   libspdlog-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-dev
   chromium
 )
 

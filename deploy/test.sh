@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds everything, and runs every test: unit and API tests (CTest,
-# each API test starts a real mobotd --backend sim --port 0), the dashboard's unit tests (Vitest)
+# each API test starts a real mobotd --backend sim --port 0, or --backend hardware against the
+# device emulators), bounded fuzzing of the device parsers, the dashboard's unit tests (Vitest)
 # and the browser test (Debian's Chromium driven by playwright-core).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -26,6 +27,15 @@ export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
 build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
 build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
 unset TSAN_OPTIONS
+
+echo "== bounded fuzzing: every parser of device bytes (libFuzzer, clang), 20 s each"
+mkdir -p build-fuzz
+if ! CXX=clang++ cmake -S . -B build-fuzz -DMOBOT_FUZZ=ON >build-fuzz/cmake-configure.log 2>&1; then
+  cat build-fuzz/cmake-configure.log >&2
+  exit 1
+fi
+cmake --build build-fuzz -j"$(nproc)"
+tests/fuzz/run_fuzzers.sh build-fuzz -max_total_time=20
 
 echo "== reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3, E5)"
 build/tests/bench/mobot_umbmark

@@ -7,6 +7,7 @@
 #include "drivers/hardware/camera_devices.h"
 #include "drivers/hardware/dashgo_devices.h"
 #include "drivers/hardware/modbus_devices.h"
+#include "drivers/hardware/motion_mind_devices.h"
 #include "drivers/hardware/sick_lms2xx_devices.h"
 #include "drivers/hardware/ydlidar_devices.h"
 
@@ -15,10 +16,12 @@ namespace {
 
 constexpr std::array kDrivers{
     DeviceDriverEntry{"base", "dashgo_arduino", make_dashgo_arduino},
+    DeviceDriverEntry{"base", "motion_mind", make_motion_mind_base},
     DeviceDriverEntry{"laser", "ydlidar_g4", make_ydlidar_g4},
     DeviceDriverEntry{"laser", "sick_lms2xx", make_sick_lms2xx},
     DeviceDriverEntry{"ir", "sharp_ir_arduino", make_sharp_ir_arduino},
     DeviceDriverEntry{"bus", "modbus_rtu", make_modbus_rtu},
+    DeviceDriverEntry{"tilt", "motion_mind", make_motion_mind_tilt},
     DeviceDriverEntry{"camera", "opencv", make_opencv_camera},
 };
 

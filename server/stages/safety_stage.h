@@ -18,7 +18,8 @@ struct WatchedSensor {
 
 // The layer of safety that needs no network: a contact stops the base at once and fails the goal
 // ("collision"); a required sensor that falls silent or whose driver reports a fault stops the
-// robot through the mux's "safety" source and fails the goal ("sensor_fault"). Every fault is an
+// robot at once (no deceleration ramp) through the mux's "safety" source and fails the goal
+// ("sensor_fault"). Every fault is an
 // event once, when it starts.
 class SafetyStage final : public Stage {
  public:

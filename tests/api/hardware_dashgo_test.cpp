@@ -2,10 +2,15 @@
 // pseudo-terminals: the real drivers, protocols and fault handling, without the robot.
 #include <dirent.h>
 
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <sstream>
 
 #include "support/api_test.h"
 #include "support/emulator_process.h"
+#include "support/goal_support.h"
 
 namespace mobot::testing {
 namespace {
@@ -74,6 +79,18 @@ class HardwareDashgoTest : public ::testing::Test {
     return wheels;
   }
 
+  static void check_faults(const std::string& device, const std::string& sensor_name);
+  static std::size_t fault_events(const std::string& sensor_name) {
+    std::size_t count = 0;
+    for (const json& event : run_events(admin(), current_run_id(admin()))) {
+      if (event.value("kind", "") == "fault" &&
+          event.at("detail").value("sensor", "") == sensor_name) {
+        ++count;
+      }
+    }
+    return count;
+  }
+
   static inline std::unique_ptr<EmulatorProcess> emulator_;
   static inline std::unique_ptr<MobotdProcess> server_;
 };
@@ -106,32 +123,136 @@ TEST_F(HardwareDashgoTest, TeleopTurnsTheWheelsAndTheOdometryFollows) {
   EXPECT_NEAR(odometry_m, moved_m, 0.1 * moved_m);
 }
 
-TEST_F(HardwareDashgoTest, EachFaultOfTheIrBoardStopsTheRobotAndRecovers) {
+// Drives through each fault of `device` (its /robot sensor `sensor_name`): the robot stops at
+// once, /robot and the events say why, and the device comes back by itself when the fault ends.
+void HardwareDashgoTest::check_faults(const std::string& device, const std::string& sensor_name) {
   for (const std::string fault : {"unplug", "drop", "stall", "garbage", "checksum"}) {
-    SCOPED_TRACE(fault);
+    SCOPED_TRACE(device + " " + fault);
     ASSERT_TRUE(wait_until([] { return all_sensors_ok(); }, 10s));
     // Keep driving through the fault: the safety layer must win over the operator.
     std::atomic<bool> stop{false};
     std::thread driver([&] { drive_for(admin(), 0.1, 0.0, 30.0, [&] { return stop.load(); }); });
     ASSERT_TRUE(wait_until([] { return wheel_setpoints().first > 0.0; }, 3s));
-    ASSERT_EQ(emulator_->command("fault ir " + fault), "ok");
-    ASSERT_TRUE(wait_until([] { return !sensor("ir").value("ok", true); }, 3s));
+    const std::size_t faults_before = fault_events(sensor_name);
+    ASSERT_EQ(emulator_->command("fault " + device + " " + fault), "ok");
+    ASSERT_TRUE(wait_until([&] { return !sensor(sensor_name).value("ok", true); }, 3s));
     const auto seen = std::chrono::steady_clock::now();
     EXPECT_TRUE(wait_until([] { return wheel_setpoints().first == 0.0; }, 1s));
     const double stop_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - seen).count();
-    // The base's own cycle (20 ms) carries the zero set-point; the poll of /robot adds its own.
+    // The base's own cycle (20 ms) carries the zero set-point; the polls add their own.
     EXPECT_LT(stop_ms, 200.0);
-    EXPECT_FALSE(sensor("ir").value("reason", "").empty());
-    const json event = find_event(admin(), current_run_id(admin()), "fault");
-    ASSERT_FALSE(event.is_null());
-    EXPECT_EQ(event.at("detail").at("sensor"), "ir");
+    EXPECT_FALSE(sensor(sensor_name).value("reason", "").empty());
+    // A new fault event of this sensor in the run (the recorder flushes every 200 ms).
+    EXPECT_TRUE(wait_until([&] { return fault_events(sensor_name) > faults_before; }, 2s));
     stop = true;
     driver.join();
-    ASSERT_EQ(emulator_->command("clear ir"), "ok");
-    EXPECT_TRUE(wait_until([] { return sensor("ir").value("ok", false); }, 5s))
-        << sensor("ir").dump();
+    ASSERT_EQ(emulator_->command("clear " + device), "ok");
+    EXPECT_TRUE(wait_until([&] { return sensor(sensor_name).value("ok", false); }, 8s))
+        << sensor(sensor_name).dump();
   }
+}
+
+TEST_F(HardwareDashgoTest, EachFaultOfTheIrBoardStopsTheRobotAndRecovers) {
+  check_faults("ir", "ir");
+}
+
+TEST_F(HardwareDashgoTest, EachFaultOfTheLidarStopsTheRobotAndRecovers) {
+  check_faults("laser", "laser");
+}
+
+TEST_F(HardwareDashgoTest, TheLidarStreamsWholeTurnsAtItsRateWithTheRightGeometry) {
+  WsClient client(server_->port(), server_->token());
+  client.send(json{{"op", "subscribe"}, {"topics", {"scan"}}, {"encoding", "json"}});
+  ASSERT_TRUE(client.read_until("subscribed", 5s));
+  const EmulatedPose pose = emulated_pose();  // the robot stands still
+  std::vector<json> scans;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < 3s) {
+    const auto frame = client.read(1s);
+    if (frame && frame->text() && frame->json().value("topic", "") == "scan") {
+      scans.push_back(frame->json().at("data"));
+    }
+  }
+  // The emulated G4 turns at 7 Hz.
+  EXPECT_GE(scans.size(), 18U);
+  EXPECT_LE(scans.size(), 24U);
+  ASSERT_FALSE(scans.empty());
+  const json& scan = scans.back();
+  const auto& ranges = scan.at("ranges");
+  ASSERT_EQ(ranges.size(), 720U);
+  EXPECT_NEAR(scan.at("angle_min").get<double>(), -M_PI, 1e-5);
+  EXPECT_NEAR(scan.at("angle_increment").get<double>(), 2.0 * M_PI / 720.0, 1e-6);
+  // Every tenth bin against the floor plan seen from the lidar (on the base's centre, 0.2 m up).
+  // A bin holds the nearest sample that fell in it, so its range lies between the nearest and
+  // the farthest surface across the bin's half degree, give or take the G4's noise.
+  auto ray = [&](double bearing) {
+    std::istringstream in(emulator_->command("ray " + std::to_string(pose.x) + " " +
+                                             std::to_string(pose.y) + " " +
+                                             std::to_string(pose.theta + bearing) + " 0.2"));
+    std::string word;
+    double range_m = std::numeric_limits<double>::infinity();
+    in >> word >> range_m;
+    return range_m > 16.0 ? std::numeric_limits<double>::infinity() : range_m;
+  };
+  const double increment = 2.0 * M_PI / 720.0;
+  int checked = 0;
+  int outside = 0;
+  for (int bin = 0; bin < 720; bin += 10) {
+    double nearest_m = std::numeric_limits<double>::infinity();
+    double farthest_m = 0.0;
+    // Bin i is centred on -pi + i * increment; a little wider than the bin for the angle's
+    // quantisation (1/64 degree) and the distance-dependent angle correction.
+    for (int k = -3; k <= 3; ++k) {
+      const double range_m = ray(-M_PI + (bin + k / 5.0) * increment);
+      nearest_m = std::min(nearest_m, range_m);
+      farthest_m = std::max(farthest_m, range_m);
+    }
+    if (!ranges[bin].is_number()) continue;  // +infinity: nothing within the G4's 16 m
+    const double range_m = ranges[bin].get<double>();
+    if (range_m < 0.1) continue;  // no sample fell in the bin
+    ++checked;
+    const double tolerance_m = 0.03 + 0.015 * range_m;
+    if (range_m < nearest_m - tolerance_m || range_m > farthest_m + tolerance_m) {
+      ++outside;
+      ADD_FAILURE() << "bin " << bin << ": " << range_m << " m, the plan says " << nearest_m << ".."
+                    << farthest_m << " m; neighbours " << ranges[bin - 2] << " " << ranges[bin - 1]
+                    << " " << ranges[bin + 1] << " " << ranges[bin + 2]
+                    << "; plan at -1, +1 bin: " << ray(-M_PI + (bin - 1) * increment) << " "
+                    << ray(-M_PI + (bin + 1) * increment);
+    }
+  }
+  EXPECT_GE(checked, 50);
+  EXPECT_EQ(outside, 0);
+}
+
+TEST_F(HardwareDashgoTest, AGoalSucceedsOnTheEmulatedFloorPlan) {
+  // The office's floor plan as the robot's map, and the robot told where it stands.
+  std::ifstream image(std::string(MOBOT_SOURCE_ROOT) + "/drivers/sim/worlds/office/office.pgm",
+                      std::ios::binary);
+  const std::string pgm((std::istreambuf_iterator<char>(image)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(pgm.empty());
+  json body = map_import_body("office", pgm, 0.05);
+  body["origin"] = json{{"x", 0.0}, {"y", 0.0}, {"theta", 0.0}};  // the world's own
+  const HttpReply imported = admin().post("/api/v1/maps", body);
+  ASSERT_EQ(imported.status, 201) << imported.body;
+  const auto map_id = imported.json().at("id").get<std::int64_t>();
+  ASSERT_EQ(admin().post("/api/v1/maps/" + std::to_string(map_id) + "/activate", "").status, 200);
+  const EmulatedPose start = emulated_pose();
+  ASSERT_EQ(admin()
+                .post("/api/v1/localization/pose",
+                      json{{"x", start.x}, {"y", start.y}, {"theta", start.theta}})
+                .status,
+            200);
+  // 1.5 m ahead along the corridor the office starts in.
+  const double goal_x = start.x + 1.5 * std::cos(start.theta);
+  const double goal_y = start.y + 1.5 * std::sin(start.theta);
+  const HttpReply goal = post_goal(admin(), goal_x, goal_y, start.theta);
+  ASSERT_EQ(goal.status, 201) << goal.body;
+  const json result = wait_goal_end(admin(), goal.json().at("id").get<std::int64_t>(), 40.0);
+  EXPECT_EQ(result.value("status", ""), "succeeded") << result.dump();
+  const EmulatedPose end = emulated_pose();
+  EXPECT_LT(std::hypot(end.x - goal_x, end.y - goal_y), 0.25) << end.x << " " << end.y;
 }
 
 TEST_F(HardwareDashgoTest, ABaseThatVanishesIsMissingAndComesBackByItself) {

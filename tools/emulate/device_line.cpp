@@ -1,5 +1,7 @@
 #include "tools/emulate/device_line.h"
 
+#include <time.h>
+
 #include <array>
 #include <map>
 
@@ -45,14 +47,43 @@ void DeviceLine::step(double now_s) {
     device_->receive(std::span(buffer.data(), count), now_s);
   }
   std::vector<std::uint8_t> out = device_->transmit(now_s);
-  if (fault_ == LineFault::kDrop) return;
+  const std::uint64_t out_begin = model_offset_;
+  const std::size_t model_bytes = out.size();
+  model_offset_ += model_bytes;
+  if (fault_ == LineFault::kDrop) {
+    settle_marks(out_begin, model_bytes, 0);
+    return;
+  }
   if (fault_ == LineFault::kGarbage) {
     // Noise at about the device's own pace (and some even when it has nothing to say).
     out.resize(std::max(out.size(), static_cast<std::size_t>(elapsed_s * 2000.0)));
     std::uniform_int_distribution<int> byte(0, 255);
     for (std::uint8_t& value : out) value = static_cast<std::uint8_t>(byte(rng_));
   }
-  port_.write(out);
+  const std::size_t written = port_.write(out);
+  // Noise carries none of the model's bytes.
+  settle_marks(out_begin, model_bytes, fault_ == LineFault::kGarbage ? 0 : written);
+}
+
+void DeviceLine::set_mark_listener(std::function<void(std::int64_t realtime_us)> written) {
+  mark_written_ = std::move(written);
+}
+
+void DeviceLine::add_output_mark(std::uint64_t end_offset) { marks_.push_back(end_offset); }
+
+void DeviceLine::settle_marks(std::uint64_t begin, std::size_t size, std::size_t written) {
+  std::optional<std::int64_t> now_us;
+  while (!marks_.empty() && marks_.front() <= begin + size) {
+    if (marks_.front() <= begin + written && mark_written_) {
+      if (!now_us) {
+        timespec now{};
+        clock_gettime(CLOCK_REALTIME, &now);
+        now_us = std::int64_t{now.tv_sec} * 1'000'000 + now.tv_nsec / 1000;
+      }
+      mark_written_(*now_us);
+    }
+    marks_.pop_front();
+  }
 }
 
 }  // namespace mobot::emulate

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cstdint>
+#include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <random>
@@ -40,13 +43,27 @@ class DeviceLine {
   void clear_fault();
   LineFault fault() const { return fault_; }
 
+  // Latency tracing. A mark is an output offset of the model (bytes its transmit() has returned,
+  // counted from the start, the marked byte included); once the pty has taken that byte,
+  // `written` gets the CLOCK_REALTIME time in microseconds, read as the write returns. A marked
+  // byte that never reaches the pty (a fault, a full pty buffer) drops its mark.
+  void set_mark_listener(std::function<void(std::int64_t realtime_us)> written);
+  void add_output_mark(std::uint64_t end_offset);
+
  private:
+  // Settles the marks within the model's output [begin, begin + size) of which `written` bytes
+  // reached the pty.
+  void settle_marks(std::uint64_t begin, std::size_t size, std::size_t written);
+
   std::unique_ptr<EmulatedDevice> device_;
   PtyPort port_;
   std::mt19937_64 rng_;
   LineFault fault_ = LineFault::kNone;
   double fault_until_s_ = 0.0;
   double last_step_s_ = 0.0;
+  std::uint64_t model_offset_ = 0;  // bytes the model has sent, written or not
+  std::deque<std::uint64_t> marks_;
+  std::function<void(std::int64_t)> mark_written_;
 };
 
 }  // namespace mobot::emulate

@@ -50,7 +50,10 @@ EmulatedRobot::EmulatedRobot(EmulatedRobotOptions options)
     laser.min_range_m = profile.laser_range_min_m;
     laser.max_range_m = profile.laser_range_max_m;
     laser.seed = ++seed;
-    add("laser", std::make_unique<YdlidarG4Device>(world_, laser));
+    auto laser_device = std::make_unique<YdlidarG4Device>(world_, laser);
+    YdlidarG4Device* laser_model = laser_device.get();
+    add("laser", std::move(laser_device));
+    if (!options_.trace_scans.empty()) trace_turns(*laser_model, *lines_.back());
     SharpIrDeviceOptions ir;
     ir.sensors_in_base = profile.ir_sensors_in_base;
     ir.height_m = profile.ir_height_m;
@@ -71,6 +74,18 @@ EmulatedRobot::EmulatedRobot(EmulatedRobotOptions options)
   } else {
     throw std::invalid_argument("robot '" + options_.robot + "' is not one of dashgo");
   }
+}
+
+void EmulatedRobot::trace_turns(YdlidarG4Device& laser, DeviceLine& line) {
+  scan_trace_.open(options_.trace_scans, std::ios::app);
+  if (!scan_trace_) {
+    throw std::runtime_error("cannot open " + options_.trace_scans.string() + " for the trace");
+  }
+  laser.set_turn_end_hook([&line](std::uint64_t end_offset) { line.add_output_mark(end_offset); });
+  // Flushed at once: a reader follows the file while the emulator runs.
+  line.set_mark_listener([this](std::int64_t realtime_us) {
+    scan_trace_ << realtime_us << '\n' << std::flush;
+  });
 }
 
 void EmulatedRobot::step(double now_s) {
@@ -109,6 +124,14 @@ std::string EmulatedRobot::command(const std::string& text, double now_s) {
     std::ostringstream out;
     out << "pose " << pose.x << ' ' << pose.y << ' ' << pose.theta;
     return out.str();
+  }
+  if (args[0] == "ray" && args.size() == 5) {
+    // What a range sensor at (x, y) looking along `angle` at `height` would see: tests compare
+    // a driver's readings with it.
+    const std::optional<double> range_m = world_.cast_ray(
+        {std::strtod(args[1].c_str(), nullptr), std::strtod(args[2].c_str(), nullptr)},
+        std::strtod(args[3].c_str(), nullptr), std::strtod(args[4].c_str(), nullptr), 100.0);
+    return range_m ? "ray " + std::to_string(*range_m) : std::string("ray none");
   }
   if (args[0] == "set_pose" && args.size() == 4) {
     world_.set_base_pose({std::strtod(args[1].c_str(), nullptr),

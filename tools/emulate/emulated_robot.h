@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -12,11 +13,17 @@
 
 namespace mobot::emulate {
 
+class YdlidarG4Device;
+
 struct EmulatedRobotOptions {
   std::string robot = "dashgo";    // dashgo | r1
   std::filesystem::path link_dir;  // where the devices' links appear: DIR/base, DIR/laser, ...
   sim::World world;
   std::uint64_t seed = 1;
+  // When set, one line is appended here per completed lidar turn: the CLOCK_REALTIME time in
+  // microseconds at which the pty took the last byte of the packet that completes it (see
+  // YdlidarG4Device::set_turn_end_hook), for measuring the host's latency from it.
+  std::filesystem::path trace_scans;
 };
 
 // The devices of one robot on their ptys, around one shared world: the emulated base moves the
@@ -36,12 +43,14 @@ class EmulatedRobot {
 
  private:
   DeviceLine* line_named(const std::string& name);
+  void trace_turns(YdlidarG4Device& laser, DeviceLine& line);
 
   EmulatedRobotOptions options_;
   FloorPlanWorld world_;
   mutable std::mutex mutex_;
   std::vector<std::unique_ptr<DeviceLine>> lines_;
   std::vector<std::string> names_;  // the role of each line
+  std::ofstream scan_trace_;
   // Robot-specific commands (the Dashgo's e-stop button).
   std::function<std::string(const std::vector<std::string>&)> extra_command_;
 };

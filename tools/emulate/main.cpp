@@ -1,7 +1,11 @@
 // mobot-emulate: a robot's devices on pseudo-terminals, speaking their real protocols from the
 // device's side, so mobotd --backend hardware runs without the robot.
 //
-//   mobot-emulate dashgo --dir /tmp/dashgo [--world office] [--seed 1]
+//   mobot-emulate dashgo --dir /tmp/dashgo [--world office] [--seed 1] [--trace-scans FILE]
+//
+// --trace-scans appends to FILE, per completed lidar turn, the CLOCK_REALTIME time in microseconds
+// at which the last byte of the packet completing it went to the pty (tests/bench/scan_latency.py
+// measures the scan latency of mobotd from it).
 //
 // Prints one line per device ("base /tmp/dashgo/base -> /dev/pts/5"), the config it wrote
 // ("config /tmp/dashgo/mobotd.yaml": the robot's hardware config with these devices), then
@@ -12,6 +16,7 @@
 //   wheels                     -> "wheels L R", the base's wheel set-points (dashgo: ticks/frame)
 //   pose                       -> "pose X Y THETA", the emulated base's true pose
 //   set_pose X Y THETA
+//   ray X Y ANGLE HEIGHT       -> "ray RANGE" (or "ray none"): the floor plan seen from (X, Y)
 //   quit                       (or end of input)
 #include <yaml-cpp/yaml.h>
 #include <CLI/CLI.hpp>
@@ -52,12 +57,15 @@ int main(int argc, char** argv) {
   std::string world_name = "office";
   std::uint64_t seed = 1;
   std::filesystem::path config_template;
+  std::filesystem::path trace_scans;
   cli.add_option("robot", robot_name, "dashgo")->check(CLI::IsMember({"dashgo"}));
   cli.add_option("--dir", dir, "where the device links and the config go")->required();
   cli.add_option("--world", world_name, "a built-in world or a world.yaml");
   cli.add_option("--seed", seed, "noise seed");
   cli.add_option("--config-template", config_template,
                  "the hardware config to fill in (default: deploy/config/ of this source tree)");
+  cli.add_option("--trace-scans", trace_scans,
+                 "append the realtime us at which each lidar turn's last packet was written");
   CLI11_PARSE(cli, argc, argv);
   if (config_template.empty()) {
     config_template = std::filesystem::path(MOBOT_SOURCE_ROOT) / "deploy/config" /
@@ -71,6 +79,7 @@ int main(int argc, char** argv) {
     options.world =
         mobot::sim::load_world(mobot::sim::resolve_world(MOBOT_DEFAULT_WORLDS_DIR, world_name));
     options.seed = seed;
+    options.trace_scans = trace_scans;
     mobot::emulate::EmulatedRobot robot(std::move(options));
     const std::filesystem::path config_path = dir / "mobotd.yaml";
     write_config(config_template, config_path, robot);

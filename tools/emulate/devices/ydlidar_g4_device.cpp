@@ -90,6 +90,7 @@ void YdlidarG4Device::receive(std::span<const std::uint8_t> bytes, double now_s)
 
 std::vector<std::uint8_t> YdlidarG4Device::transmit(double now_s) {
   advance(now_s);
+  transmitted_bytes_ += outbox_.size();
   return std::exchange(outbox_, {});
 }
 
@@ -136,6 +137,8 @@ void YdlidarG4Device::close_packet() {
                                        yd::angle_raw_from_deg(packet_last_deg_), packet_,
                                        options_.format, bad_checksums_ ? 0xFFFF : 0x0000);
   frame.scan_data = true;
+  frame.ends_turn = packet_is_zero_ && turn_open_;
+  if (packet_is_zero_) turn_open_ = true;
   line_.push_back(std::move(frame));
   packet_.clear();
   packet_is_zero_ = false;
@@ -159,6 +162,11 @@ yd::RawSample YdlidarG4Device::measure(double raw_angle_deg) {
   last_distance_mm_ = distance_mm;
   yd::RawSample sample;
   if (!(distance_mm > 0.0)) return sample;
+  // At an edge (a near wall on one side of it, nothing on the other) the search can swing
+  // between the two: a distance whose own direction does not see it would be placed where
+  // nothing is. The head gets no clean return there either: drop it.
+  const double check_mm = cast_mm(lidar, raw_angle_deg + yd::angle_correction_deg(distance_mm));
+  if (std::abs(check_mm - distance_mm) > 0.02 * distance_mm + 10.0) return sample;
   const double hit_m = distance_mm / 1000.0;
   const double sigma_m = std::max(0.01, 0.005 * hit_m);
   const double range_m = hit_m + std::normal_distribution<double>(0.0, sigma_m)(rng_);
@@ -188,6 +196,7 @@ void YdlidarG4Device::send_line(double now_s) {
     frame.sent += count;
     line_free_s_ = start_s + static_cast<double>(count) * byte_time_s_;
     if (frame.sent < frame.bytes.size()) break;
+    if (frame.ends_turn && turn_end_hook_) turn_end_hook_(transmitted_bytes_ + outbox_.size());
     line_.pop_front();
   }
 }
@@ -252,12 +261,14 @@ void YdlidarG4Device::start_scan(double now_s) {
   next_sample_ = 0;
   packet_.clear();
   packet_is_zero_ = false;
+  turn_open_ = false;
 }
 
 void YdlidarG4Device::stop_scan() {
   scanning_ = false;
   packet_.clear();
   packet_is_zero_ = false;
+  turn_open_ = false;
   // Packets the line has begun go out whole; the rest never leave the device.
   std::erase_if(line_, [](const Frame& frame) { return frame.scan_data && frame.sent == 0; });
 }

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <random>
 #include <span>
 #include <string_view>
@@ -62,12 +63,20 @@ class YdlidarG4Device final : public EmulatedDevice {
   bool scanning() const { return scanning_; }
   double scan_rate_hz() const { return scan_rate_hz_; }
 
+  // For latency tracing: called with the output offset just past the last byte (bytes transmit()
+  // has returned since construction, that byte included) of each packet that completes a turn.
+  // That is the zero packet opening the next turn, the packet with which a host's assembler can
+  // give the turn out; the first zero packet of a scan completes none. Unset: nothing is called.
+  using TurnEndHook = std::function<void(std::uint64_t end_offset)>;
+  void set_turn_end_hook(TurnEndHook hook) { turn_end_hook_ = std::move(hook); }
+
  private:
   struct Frame {
     double ready_s = 0.0;  // when the device has it ready to send
     std::vector<std::uint8_t> bytes;
     std::size_t sent = 0;
     bool scan_data = false;
+    bool ends_turn = false;  // a zero packet after which the host can close the previous turn
   };
 
   // Takes the samples due by now_s and lets the line send what it can by then.
@@ -104,10 +113,13 @@ class YdlidarG4Device final : public EmulatedDevice {
   double packet_last_deg_ = 0.0;
   double packet_ready_s_ = 0.0;
   bool packet_is_zero_ = false;
+  bool turn_open_ = false;  // a zero packet of this scan has gone to the line
 
   std::deque<Frame> line_;
   double line_free_s_ = 0.0;  // when the line has sent what it was given
   std::vector<std::uint8_t> outbox_;
+  std::uint64_t transmitted_bytes_ = 0;  // returned by transmit() so far
+  TurnEndHook turn_end_hook_;
 };
 
 }  // namespace mobot::emulate
