@@ -1,5 +1,7 @@
 #include "api/frame_codec.h"
 
+#include <openssl/evp.h>
+
 #include <bit>
 #include <cstring>
 
@@ -61,6 +63,26 @@ std::string encode_binary_scan(const FrameStamp& stamp, const msgs::LaserScan& s
   out.append(reinterpret_cast<const char*>(scan.ranges_m.data()),
              scan.ranges_m.size() * sizeof(float));
   return out;
+}
+
+std::string encode_binary_camera(const FrameStamp& stamp, const msgs::Image& image) {
+  std::string out;
+  out.reserve(kBinaryHeaderBytes + image.data.size());
+  append_header(out, topic_spec(TopicId::kCamera).binary_id, stamp);
+  out.append(reinterpret_cast<const char*>(image.data.data()), image.data.size());
+  return out;
+}
+
+nlohmann::json camera_json(const msgs::Image& image) {
+  // JSON clients get the frame as base64 (a third larger); the dashboard takes the binary one.
+  std::string base64(4 * ((image.data.size() + 2) / 3) + 1, '\0');
+  const int length = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()),
+                                     image.data.data(), static_cast<int>(image.data.size()));
+  base64.resize(static_cast<std::size_t>(std::max(length, 0)));
+  return {{"width", image.width},
+          {"height", image.height},
+          {"encoding", image.encoding},
+          {"data_base64", std::move(base64)}};
 }
 
 std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyGrid& grid,

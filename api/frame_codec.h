@@ -13,6 +13,7 @@
 #include "core/geometry/pose2d.h"
 #include "core/mapping/map_tiles.h"
 #include "core/mapping/occupancy_grid.h"
+#include "core/msgs/image.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
 #include "core/msgs/sonar_ring.h"
@@ -34,6 +35,9 @@ inline constexpr std::size_t kBinaryHeaderBytes = 32;
 std::string encode_json_frame(std::string_view topic, const FrameStamp& stamp,
                               const nlohmann::json& data);
 
+// The camera topic: the body is the JPEG file as the driver encoded it.
+std::string encode_binary_camera(const FrameStamp& stamp, const msgs::Image& image);
+nlohmann::json camera_json(const msgs::Image& image);
 std::string encode_binary_scan(const FrameStamp& stamp, const msgs::LaserScan& scan,
                                const geometry::Pose2D& sensor_in_map);
 std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyGrid& grid,

@@ -99,6 +99,12 @@ void StreamHub::publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D
       [&](const FrameStamp& stamp) { return encode_binary_scan(stamp, scan, sensor_in_map); });
 }
 
+void StreamHub::publish_camera(const msgs::Image& image) {
+  publish_bulk(
+      TopicId::kCamera, image.stamp_s, [&] { return camera_json(image); },
+      [&](const FrameStamp& stamp) { return encode_binary_camera(stamp, image); });
+}
+
 void StreamHub::publish_cloud(double t_s, const CloudChunk& chunk,
                               std::span<const perception::CloudPoint> points) {
   publish_bulk(

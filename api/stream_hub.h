@@ -73,6 +73,7 @@ class StreamHub {
   void publish_map(double t_s, std::shared_ptr<const mapping::OccupancyGrid> grid,
                    std::int64_t map_id);
   void publish_ir(const msgs::IrRing& ring, const geometry::Pose2D& base_in_map);
+  void publish_camera(const msgs::Image& image);
   void publish_costmap(double t_s, const planning::PlanningGrid& costmap, bool local);
   void publish_particles(double t_s, std::span<const estimation::WeightedPose> particles,
                          std::size_t total);

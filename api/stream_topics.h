@@ -23,9 +23,10 @@ enum class TopicId : std::uint8_t {
   kIr,
   kCostmap,
   kLocalCostmap,
-  kParticles
+  kParticles,
+  kCamera
 };
-inline constexpr std::size_t kTopicCount = 15;
+inline constexpr std::size_t kTopicCount = 16;
 
 struct TopicSpec {
   TopicId id;
@@ -53,6 +54,8 @@ inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
     {TopicId::kCostmap, "costmap", 4, false, true},
     {TopicId::kLocalCostmap, "local_costmap", 4, false, true},
     {TopicId::kParticles, "particles", 6, false, true},
+    // One JPEG per frame (binary body: the file), at the camera driver's rate.
+    {TopicId::kCamera, "camera", 5, false, true},
 }};
 
 // The map body's flags (README: binary frames): bit 0, the frame holds changed tiles.

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace mobot::drivers {
@@ -20,6 +21,7 @@ struct DeviceCounters {
   std::uint64_t frames = 0;           // complete replies, packets or scans
   std::uint64_t checksum_errors = 0;  // frames that failed their checksum or did not parse
   std::uint64_t reconnects = 0;       // times the line was reopened after a failure
+  std::optional<double> battery_v;    // a base that reports its battery
 };
 
 }  // namespace mobot::drivers

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string_view>
 
@@ -23,6 +24,14 @@ class SensorDriver {
   // nothing when none is due.
   virtual std::optional<Msg> poll(double now_s) = 0;
   virtual DeviceStatus status() const = 0;
+  // A real device's thread may also hand each reading to `listener` the moment it is complete
+  // (stamp_s unset: the listener stamps it), so the stream can forward it at once instead of at
+  // the next tick. Returns false for a driver whose readings exist only when polled (the
+  // simulator's). Called before the devices start.
+  virtual bool set_arrival_listener(std::function<void(const Msg&)> listener) {
+    (void)listener;
+    return false;
+  }
 };
 
 }  // namespace mobot::drivers

@@ -71,6 +71,18 @@ std::string device_metrics_text(const std::vector<drivers::DeviceCounters>& devi
        [](const drivers::DeviceCounters& d) { return static_cast<double>(d.reconnects); }},
   };
   std::string out;
+  bool first_battery = true;
+  for (const drivers::DeviceCounters& device : devices) {
+    if (!device.battery_v) continue;
+    const std::string labels = "device=\"" + device.name + "\"";
+    if (first_battery) {
+      api::append_metric(out, "mobot_battery_volts", "gauge", "The base's battery voltage.",
+                         *device.battery_v, labels);
+    } else {
+      api::append_sample(out, "mobot_battery_volts", *device.battery_v, labels);
+    }
+    first_battery = false;
+  }
   for (const Metric& metric : kMetrics) {
     for (std::size_t i = 0; i < devices.size(); ++i) {
       const std::string labels = "device=\"" + devices[i].name + "\"";

@@ -16,6 +16,7 @@
 #include "core/geometry/pose2d.h"
 #include "core/mapping/map_tiles.h"
 #include "core/mapping/occupancy_grid.h"
+#include "core/msgs/image.h"
 #include "core/msgs/ir_ring.h"
 #include "core/msgs/laser_scan.h"
 #include "core/msgs/odometry.h"
@@ -126,6 +127,7 @@ struct Bus {
   Topic<ScanSample> scan;
   Topic<SonarSample> sonar;
   Topic<IrSample> ir;
+  Topic<msgs::Image> camera;  // JPEG frames of a real camera
   Topic<CostmapSample> costmap;
   Topic<ParticlesSample> particles;
   Topic<MapSample> map;

@@ -17,6 +17,7 @@ void connect_stream_hub(Bus& bus, api::StreamHub& hub) {
       [&hub](const SonarSample& sample) { hub.publish_sonar(sample.ring, sample.base_in_map); });
   bus.ir.subscribe(
       [&hub](const IrSample& sample) { hub.publish_ir(sample.ring, sample.base_in_map); });
+  bus.camera.subscribe([&hub](const msgs::Image& image) { hub.publish_camera(image); });
   bus.costmap.subscribe([&hub](const CostmapSample& sample) {
     hub.publish_costmap(sample.t_s, *sample.costmap, sample.local);
   });

@@ -1,4 +1,5 @@
 #include "server/robot_assembly.h"
+#include "server/scan_forwarder.h"
 
 #include <algorithm>
 
@@ -82,6 +83,10 @@ RobotAssembly::RobotAssembly(const Config& config, Bus& bus,
   runtime_ = std::make_unique<Runtime>(bus, build_pipeline(config, std::move(on_sweep)),
                                        1.0 / config.robot.control_rate_hz, config.robot.kinematics,
                                        config.robot.realtime_priority);
+  drivers::DriverSet& drivers = backend_->drivers();
+  if (drivers.laser && drivers.laser->set_arrival_listener(ScanForwarder(bus, *runtime_))) {
+    publish_->leave_scans_to_forwarder();
+  }
 }
 
 Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listener on_sweep) {
@@ -120,7 +125,7 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   pipeline.add(std::make_unique<SmoothStage>(config.robot.limits));
   write_base_ = &pipeline.add(std::make_unique<WriteBaseStage>(*drivers.base, *kinematics_));
   if (sim) pipeline.add(std::make_unique<SimTruthStage>(*sim));
-  pipeline.add(std::make_unique<PublishStage>(config.robot.kinematics));
+  publish_ = &pipeline.add(std::make_unique<PublishStage>(config.robot.kinematics));
   return pipeline;
 }
 

@@ -15,6 +15,7 @@
 #include "server/stages/mapping_stage.h"
 #include "server/stages/mux_stage.h"
 #include "server/stages/navigate_stage.h"
+#include "server/stages/publish_stage.h"
 #include "server/stages/safety_stage.h"
 #include "server/stages/sweep_stage.h"
 #include "server/stages/write_base_stage.h"
@@ -65,6 +66,7 @@ class RobotAssembly {
   SafetyStage* safety_ = nullptr;
   MuxStage* mux_ = nullptr;
   WriteBaseStage* write_base_ = nullptr;
+  PublishStage* publish_ = nullptr;
   std::unique_ptr<Runtime> runtime_;
 };
 

@@ -13,6 +13,7 @@
 #include "core/geometry/pose2d.h"
 #include "core/msgs/compass_reading.h"
 #include "core/msgs/contact.h"
+#include "core/msgs/image.h"
 #include "core/msgs/ir_ring.h"
 #include "core/msgs/landmark_bearing.h"
 #include "core/msgs/laser_scan.h"
@@ -65,6 +66,7 @@ struct TickContext {
     ir.reset();
     compass.reset();
     bearings.reset();
+    image.reset();
     contacts.clear();
     estop_button = false;
     device_faults.clear();
@@ -95,6 +97,7 @@ struct TickContext {
   std::optional<msgs::CompassReading> compass;
   std::optional<msgs::LandmarkBearings> bearings;
   std::vector<msgs::Contact> contacts;
+  std::optional<msgs::Image> image;  // a camera frame (JPEG)
   // The base's own emergency button is held down.
   bool estop_button = false;
   // Devices whose driver says they are not ok: name -> reason.

@@ -42,6 +42,13 @@ double DashgoBoard::battery_v() const {
   return battery_v_;
 }
 
+DeviceCounters DashgoBoard::counters() const {
+  DeviceCounters counters = health_.counters();
+  const double battery = battery_v();
+  if (battery > 0.0) counters.battery_v = battery;
+  return counters;
+}
+
 void DashgoBoard::boot(ArduinoLink& link, const std::stop_token& stop) {
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.boot_timeout_s);

@@ -61,6 +61,8 @@ class DashgoBoard {
   double battery_v() const;
 
   const serial::DeviceHealth& health() const { return health_; }
+  // The health's counters and the battery, once read.
+  DeviceCounters counters() const;
   const DashgoBoardOptions& options() const { return options_; }
 
  private:

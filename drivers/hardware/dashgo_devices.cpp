@@ -13,7 +13,7 @@ class BoardDevice final : public HardwareDevice {
   explicit BoardDevice(std::unique_ptr<Board> board) : board_(std::move(board)) {}
   void start() override { board_->start(); }
   void stop() override { board_->stop(); }
-  std::vector<DeviceCounters> counters() const override { return {board_->health().counters()}; }
+  std::vector<DeviceCounters> counters() const override { return {board_->counters()}; }
   Board& board() { return *board_; }
 
  private:

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <functional>
+#include <vector>
 
 #include "core/msgs/laser_scan.h"
 #include "drivers/device_status.h"
@@ -16,8 +17,9 @@ class LaserScanSource {
       std::function<void(const msgs::LaserScan& scan, std::chrono::steady_clock::time_point at)>;
 
   virtual ~LaserScanSource() = default;
-  // Called on the laser's device thread for every complete scan; set before the devices start.
-  virtual void set_listener(Listener listener) = 0;
+  // Each listener is called on the laser's device thread for every complete scan (the tilt's
+  // sweep, the stream's forwarding on arrival); add them before the devices start.
+  virtual void add_listener(Listener listener) = 0;
   virtual DeviceStatus status() const = 0;
 };
 

@@ -29,7 +29,7 @@ MotionMindTiltLaser::MotionMindTiltLaser(std::shared_ptr<MotionMindLine> line,
                                          MotionMindLine::BoardId board, LaserScanSource& laser,
                                          MotionMindTiltLaserOptions options)
     : line_(std::move(line)), board_(board), laser_(laser), options_(options) {
-  laser_.set_listener([this](const msgs::LaserScan& scan,
+  laser_.add_listener([this](const msgs::LaserScan& scan,
                              std::chrono::steady_clock::time_point at) { on_scan(scan, at); });
 }
 

@@ -14,12 +14,16 @@ namespace mobot::drivers::hardware {
 template <class Msg>
 class PolledSensor final : public SensorDriver<Msg> {
  public:
+  // `subscribe`, when given, passes a listener on to the device thread (set_arrival_listener).
+  using Subscribe = std::function<void(std::function<void(const Msg&)>)>;
+
   PolledSensor(std::string name, double rate_hz, std::function<std::optional<Msg>()> take,
-               std::function<DeviceStatus()> status)
+               std::function<DeviceStatus()> status, Subscribe subscribe = nullptr)
       : name_(std::move(name)),
         rate_hz_(rate_hz),
         take_(std::move(take)),
-        status_(std::move(status)) {}
+        status_(std::move(status)),
+        subscribe_(std::move(subscribe)) {}
 
   std::string_view name() const override { return name_; }
   double nominal_rate_hz() const override { return rate_hz_; }
@@ -29,12 +33,18 @@ class PolledSensor final : public SensorDriver<Msg> {
     return reading;
   }
   DeviceStatus status() const override { return status_(); }
+  bool set_arrival_listener(std::function<void(const Msg&)> listener) override {
+    if (!subscribe_) return false;
+    subscribe_(std::move(listener));
+    return true;
+  }
 
  private:
   std::string name_;
   double rate_hz_;
   std::function<std::optional<Msg>()> take_;
   std::function<DeviceStatus()> status_;
+  Subscribe subscribe_;
 };
 
 }  // namespace mobot::drivers::hardware

@@ -37,6 +37,7 @@ class SharpIrBoard {
   void stop();
   std::optional<msgs::IrRing> take_ring();
   const serial::DeviceHealth& health() const { return health_; }
+  DeviceCounters counters() const { return health_.counters(); }
   const SharpIrBoardOptions& options() const { return options_; }
 
  private:

@@ -187,7 +187,7 @@ std::optional<msgs::LaserScan> SickLms2xxLaser::take_scan() {
   return std::exchange(newest_, std::nullopt);
 }
 
-void SickLms2xxLaser::set_listener(Listener listener) { listener_ = std::move(listener); }
+void SickLms2xxLaser::add_listener(Listener listener) { listeners_.push_back(std::move(listener)); }
 
 void SickLms2xxLaser::session(serial::SerialPort& port, const std::stop_token& stop) {
   Line line(port, health_, options_.bad_crc_limit, stop);
@@ -420,7 +420,7 @@ void SickLms2xxLaser::say_goodbye(Line& line) {
 }
 
 void SickLms2xxLaser::publish(msgs::LaserScan scan, Clock::time_point measured_at) {
-  if (listener_) listener_(scan, measured_at);
+  for (const Listener& listener : listeners_) listener(scan, measured_at);
   const std::lock_guard lock(mutex_);
   newest_ = std::move(scan);
 }

@@ -66,7 +66,7 @@ class SickLms2xxLaser final : public LaserScanSource {
 
   // The newest scan since the last call (sensor frame, stamp 0: the poller stamps it), or nothing.
   std::optional<msgs::LaserScan> take_scan();
-  void set_listener(Listener listener) override;
+  void add_listener(Listener listener) override;
   DeviceStatus status() const override { return health_.status(); }
 
   const serial::DeviceHealth& health() const { return health_; }
@@ -95,7 +95,7 @@ class SickLms2xxLaser final : public LaserScanSource {
   double scan_rate_hz_ = 0.0;
   std::size_t values_per_telegram_ = 0;
   serial::DeviceHealth health_{"laser"};
-  Listener listener_;
+  std::vector<Listener> listeners_;
   // The device thread's own: what the LMS was last known to talk (tried first on a reopen, since
   // an LMS keeps its rate until it is switched off), the range bits of its measuring mode, and
   // the last complaint logged (each is logged once, not at every reopen).

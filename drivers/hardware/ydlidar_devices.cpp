@@ -47,7 +47,11 @@ void make_ydlidar_g4(DeviceReader& entry, HardwareAssembly& assembly) {
   YdlidarG4Laser& laser = device->laser();
   assembly.drivers.laser = std::make_unique<PolledSensor<msgs::LaserScan>>(
       "laser", options.scan_rate_hz, [&laser] { return laser.take_scan(); },
-      [&laser] { return laser.status(); });
+      [&laser] { return laser.status(); },
+      [&laser](std::function<void(const msgs::LaserScan&)> listener) {
+        laser.add_listener([listener](const msgs::LaserScan& scan,
+                                      std::chrono::steady_clock::time_point) { listener(scan); });
+      });
   assembly.laser_source = &laser;
   assembly.devices.push_back(std::move(device));
 }

@@ -100,7 +100,7 @@ class YdlidarG4Laser::Session {
     msgs::LaserScan scan = ydlidar::to_laser_scan(turn, laser_.options_.scan, 0.0);
     laser_.health_.add_frame();
     laser_.health_.set_ok();
-    if (laser_.listener_) laser_.listener_(scan, Clock::now());
+    for (const Listener& listener : laser_.listeners_) listener(scan, Clock::now());
     const std::lock_guard lock(laser_.mutex_);
     laser_.scan_ = std::move(scan);
   }

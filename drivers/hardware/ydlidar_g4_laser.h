@@ -42,7 +42,7 @@ class YdlidarG4Laser final : public LaserScanSource {
   // The newest scan since the last call, or nothing.
   std::optional<msgs::LaserScan> take_scan();
 
-  void set_listener(Listener listener) override { listener_ = std::move(listener); }
+  void add_listener(Listener listener) override { listeners_.push_back(std::move(listener)); }
   DeviceStatus status() const override { return health_.status(); }
   const serial::DeviceHealth& health() const { return health_; }
   const YdlidarG4LaserOptions& options() const { return options_; }
@@ -53,7 +53,7 @@ class YdlidarG4Laser final : public LaserScanSource {
 
   YdlidarG4LaserOptions options_;
   serial::DeviceHealth health_{"laser"};
-  Listener listener_;
+  std::vector<Listener> listeners_;
   mutable std::mutex mutex_;
   std::optional<msgs::LaserScan> scan_;
   std::unique_ptr<serial::DeviceThread> thread_;

@@ -19,7 +19,7 @@ DeviceStatus DeviceHealth::status() const {
 }
 
 DeviceCounters DeviceHealth::counters() const {
-  return {name_, status(), bytes(), frames(), checksum_errors(), reconnects()};
+  return {name_, status(), bytes(), frames(), checksum_errors(), reconnects(), std::nullopt};
 }
 
 }  // namespace mobot::drivers::serial

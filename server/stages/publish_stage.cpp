@@ -44,7 +44,8 @@ void PublishStage::step(TickContext& context) {
   bus.pose.publish({context.now_s, context.pose, context.odometry.twist,
                     to_array(context.covariance), context.distance_m});
   bus.odom.publish(context.odometry);
-  if (context.scan) {
+  if (context.image) bus.camera.publish(*context.image);
+  if (context.scan && !scans_forwarded_) {
     bus.scan.publish(
         {*context.scan, geometry::compose(context.pose, context.scan->sensor_in_base)});
   }

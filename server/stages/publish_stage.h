@@ -15,8 +15,11 @@ class PublishStage final : public Stage {
 
   std::string_view name() const override { return "publish"; }
   void step(TickContext& context) override;
+  // The laser's scans reach the stream on their own (ScanForwarder): the tick publishes none.
+  void leave_scans_to_forwarder() { scans_forwarded_ = true; }
 
  private:
+  bool scans_forwarded_ = false;
   const std::string kinematics_;
   timing::RateSchedule status_schedule_{1.0};
 };

@@ -27,6 +27,7 @@ void ReadDriversStage::step(TickContext& context) {
   poll(drivers_.ir.get(), context, context.ir);
   poll(drivers_.compass.get(), context, context.compass);
   poll(drivers_.bearings.get(), context, context.bearings);
+  poll(drivers_.camera.get(), context, context.image);
 }
 
 }  // namespace mobot::server

@@ -1,7 +1,7 @@
 // A flood of REST and stream requests does not make the control loop late: 50 clients hammer
 // /robot and the stream's ping for a few seconds while the robot drives, and the loop's own
-// lateness metric stays below a quarter of the period at the 99th percentile and no tick is skipped:
-// commands are posted to the loop, reads come from the published state (behind a
+// lateness metric stays below a quarter of the period at the 99th percentile and no tick is
+// skipped: commands are posted to the loop, reads come from the published state (behind a
 // priority-inheritance lock, so a preempted reader cannot hold the loop up), and the loop's thread
 // runs with real-time priority. The test prints the worst tick and the worst lateness.
 #include <atomic>

@@ -3,6 +3,8 @@
 #include <dirent.h>
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -34,6 +36,7 @@ class HardwareDashgoTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     emulator_ = std::make_unique<EmulatorProcess>("dashgo");
+    add_camera(emulator_->config_path());
     MobotdProcess::Options options;
     options.backend = "hardware";
     options.time_scale = 1.0;
@@ -49,6 +52,26 @@ class HardwareDashgoTest : public ::testing::Test {
     // Each test starts with every device answering and the e-stop released.
     ASSERT_TRUE(wait_until([] { return all_sensors_ok(); }, 10s)) << robot_state(admin()).dump();
     admin().post("/api/v1/estop", json{{"engaged", false}});
+  }
+
+  // A camera that plays three PNG frames in a loop (OpenCV's image-sequence source), added to
+  // the hardware config the emulator wrote.
+  static void add_camera(const std::filesystem::path& config) {
+    const std::filesystem::path frames = config.parent_path() / "frames";
+    std::filesystem::create_directories(frames);
+    for (int i = 0; i < 3; ++i) {
+      std::vector<std::uint8_t> pixels(64 * 48, static_cast<std::uint8_t>(60 * i + 40));
+      std::ofstream(frames / ("frame_00" + std::to_string(i) + ".png"), std::ios::binary)
+          << make_png(64, 48, pixels);
+    }
+    std::ifstream in(config);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string section = "hardware:\n";
+    const auto at = text.find(section);
+    ASSERT_NE(at, std::string::npos) << text;
+    text.insert(at + section.size(), "  camera: {driver: opencv, source: " +
+                                         (frames / "frame_%03d.png").string() + ", rate_hz: 10}\n");
+    std::ofstream(config) << text;
   }
 
   static HttpClient admin() { return {server_->port(), server_->token()}; }
@@ -105,6 +128,8 @@ TEST_F(HardwareDashgoTest, EveryDeviceAnswersAndShowsOnMetrics) {
   EXPECT_NE(metrics.find("mobot_device_ok{device=\"base\"} 1"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("mobot_device_ok{device=\"ir\"} 1"), std::string::npos);
   EXPECT_NE(metrics.find("mobot_device_bytes_total{device=\"base\"}"), std::string::npos);
+  // The emulated Arduino's battery: 12.4 V.
+  EXPECT_NE(metrics.find("mobot_battery_volts{device=\"base\"} 12.4"), std::string::npos);
 }
 
 TEST_F(HardwareDashgoTest, TeleopTurnsTheWheelsAndTheOdometryFollows) {
@@ -224,6 +249,33 @@ TEST_F(HardwareDashgoTest, TheLidarStreamsWholeTurnsAtItsRateWithTheRightGeometr
   }
   EXPECT_GE(checked, 50);
   EXPECT_EQ(outside, 0);
+}
+
+TEST_F(HardwareDashgoTest, TheCameraStreamsJpegFramesAtItsRate) {
+  WsClient client(server_->port(), server_->token());
+  client.send(json{{"op", "subscribe"}, {"topics", {"camera"}}, {"encoding", "binary"}});
+  ASSERT_TRUE(client.read_until("subscribed", 5s));
+  int frames = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < 2s) {
+    const auto frame = client.read_binary(1s);
+    if (!frame) continue;
+    const std::string& bytes = frame->payload;
+    ASSERT_GE(bytes.size(), 36U);
+    ASSERT_EQ(bytes.substr(0, 4), "MBT1");
+    std::uint16_t topic = 0;
+    std::uint16_t header_bytes = 0;
+    std::memcpy(&topic, bytes.data() + 4, 2);
+    std::memcpy(&header_bytes, bytes.data() + 6, 2);
+    EXPECT_EQ(topic, 5);
+    // The body is a JPEG file: it starts with the SOI marker.
+    EXPECT_EQ(static_cast<unsigned char>(bytes[header_bytes]), 0xFF);
+    EXPECT_EQ(static_cast<unsigned char>(bytes[header_bytes + 1]), 0xD8);
+    ++frames;
+  }
+  // 10 Hz for 2 s.
+  EXPECT_GE(frames, 15);
+  EXPECT_LE(frames, 22);
 }
 
 TEST_F(HardwareDashgoTest, AGoalSucceedsOnTheEmulatedFloorPlan) {

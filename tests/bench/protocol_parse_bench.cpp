@@ -1,11 +1,14 @@
 // Host-side parse throughput of every serial protocol mobot speaks, on byte streams the device
 // emulators (tools/emulate/devices) produce, fed in the chunk sizes a serial read returns. Each
-// benchmark reports bytes/s and x_line: how many times the device's own line rate (8N1, 10 bits a
-// byte) the parser keeps up with on one core.
-//   g++ -std=c++20 -O2 -DNDEBUG -I. tests/bench/protocol_parse_bench.cpp drivers/protocol/*.cpp
+// benchmark reports bytes_per_second (Google Benchmark's M is 2^20 bytes) and x_line: how many
+// times the device's own line rate (8N1, 10 bits a byte) the parser keeps up with on one core
+// (printed as a rate, ".../s", because it is bytes over line bytes per second of CPU time).
+//   cmake --build build --target mobot_bench && build/tests/bench/mobot_bench
+//     --benchmark_filter='YdlidarG4|Sick|MotionMind|Arduino|Modbus'
+// or standalone:
+//   g++ -std=c++20 -O2 -g -DNDEBUG -I. tests/bench/protocol_parse_bench.cpp drivers/protocol/*.cpp
 //     core/geometry/pose2d.cpp tools/emulate/devices/{ydlidar_g4,sick_lms2xx,motion_mind,
 //     dashgo_base,modbus_sensor_bus}_device.cpp -lbenchmark -lbenchmark_main -lpthread
-//   (CMake: mobot_protocol_bench)
 
 #include <benchmark/benchmark.h>
 

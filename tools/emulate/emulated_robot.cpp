@@ -5,7 +5,10 @@
 
 #include "drivers/sim/robot_profile.h"
 #include "tools/emulate/devices/dashgo_base_device.h"
+#include "tools/emulate/devices/modbus_sensor_bus_device.h"
+#include "tools/emulate/devices/motion_mind_device.h"
 #include "tools/emulate/devices/sharp_ir_device.h"
+#include "tools/emulate/devices/sick_lms2xx_device.h"
 #include "tools/emulate/devices/ydlidar_g4_device.h"
 
 namespace mobot::emulate {
@@ -71,8 +74,53 @@ EmulatedRobot::EmulatedRobot(EmulatedRobotOptions options)
       }
       return "error unknown command";
     };
+  } else if (options_.robot == "r1") {
+    const sim::RobotProfile profile = sim::r1_profile();
+    // The wheels' boards (1, 2) and the tilt's (3) share one RS-232 line, the base's.
+    MotionMindBusOptions boards;
+    boards.seed = ++seed;
+    MotionMindBoardOptions left;
+    left.address = 1;
+    MotionMindBoardOptions right;
+    right.address = 2;
+    boards.boards = {left, right};
+    MotionMindBoardOptions tilt;
+    tilt.address = 3;
+    tilt.counts_per_rev = 200.0 * 360.0;
+    MotionMindTiltOptions tilt_axis;
+    tilt_axis.counts_per_degree = 200.0;
+    tilt.tilt = tilt_axis;
+    boards.boards.push_back(tilt);
+    auto bus = std::make_unique<MotionMindBus>(boards);
+    coupling_ = std::make_unique<MotionMindBaseCoupling>(
+        *bus, 1, 2, world_, MotionMindBaseGeometry{profile.track_m, profile.wheel_radius_m});
+    add("base", std::move(bus));
+    SickLms2xxDevice::Options laser;
+    laser.mount_in_base = profile.laser_in_base;
+    laser.mount_height_m = profile.laser_height_m;
+    laser.seed = ++seed;
+    add("laser", std::make_unique<SickLms2xxDevice>(world_, laser));
+    auto sensors =
+        std::make_unique<ModbusSensorBusDevice>(world_, ModbusSensorBusOptions{}, ++seed);
+    ModbusSensorBusDevice* sensors_model = sensors.get();
+    add("bus", std::move(sensors));
+    extra_command_ = [sensors_model](const std::vector<std::string>& args) -> std::string {
+      if (args.size() == 2 && args[0] == "limit" && (args[1] == "on" || args[1] == "off")) {
+        sensors_model->set_limit_switch(args[1] == "on");
+        return "ok";
+      }
+      if (args.size() == 3 && args[0] == "node" && (args[2] == "on" || args[2] == "off")) {
+        try {
+          sensors_model->set_node_present(std::stoi(args[1]), args[2] == "on");
+        } catch (const std::exception& error) {
+          return std::string("error ") + error.what();
+        }
+        return "ok";
+      }
+      return "error unknown command";
+    };
   } else {
-    throw std::invalid_argument("robot '" + options_.robot + "' is not one of dashgo");
+    throw std::invalid_argument("robot '" + options_.robot + "' is not one of dashgo, r1");
   }
 }
 
@@ -88,9 +136,13 @@ void EmulatedRobot::trace_turns(YdlidarG4Device& laser, DeviceLine& line) {
   });
 }
 
+EmulatedRobot::~EmulatedRobot() = default;
+
 void EmulatedRobot::step(double now_s) {
   const std::lock_guard lock(mutex_);
   for (const auto& line : lines_) line->step(now_s);
+  // R1's wheels are boards on a line: the base moves by what their shafts turned.
+  if (coupling_) coupling_->update();
 }
 
 DeviceLine* EmulatedRobot::line_named(const std::string& name) {

@@ -13,6 +13,7 @@
 
 namespace mobot::emulate {
 
+class MotionMindBaseCoupling;
 class YdlidarG4Device;
 
 struct EmulatedRobotOptions {
@@ -31,6 +32,7 @@ struct EmulatedRobotOptions {
 class EmulatedRobot {
  public:
   explicit EmulatedRobot(EmulatedRobotOptions options);
+  ~EmulatedRobot();
 
   // One pass over every line at `now_s` (seconds since start).
   void step(double now_s);
@@ -50,6 +52,8 @@ class EmulatedRobot {
   mutable std::mutex mutex_;
   std::vector<std::unique_ptr<DeviceLine>> lines_;
   std::vector<std::string> names_;  // the role of each line
+  // R1: moves the base by its wheel boards' turns (after lines_: it reads a model they own).
+  std::unique_ptr<MotionMindBaseCoupling> coupling_;
   std::ofstream scan_trace_;
   // Robot-specific commands (the Dashgo's e-stop button).
   std::function<std::string(const std::vector<std::string>&)> extra_command_;

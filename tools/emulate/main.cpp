@@ -1,7 +1,7 @@
 // mobot-emulate: a robot's devices on pseudo-terminals, speaking their real protocols from the
 // device's side, so mobotd --backend hardware runs without the robot.
 //
-//   mobot-emulate dashgo --dir /tmp/dashgo [--world office] [--seed 1] [--trace-scans FILE]
+//   mobot-emulate dashgo|r1 --dir /tmp/dashgo [--world office] [--seed 1] [--trace-scans FILE]
 //
 // --trace-scans appends to FILE, per completed lidar turn, the CLOCK_REALTIME time in microseconds
 // at which the last byte of the packet completing it went to the pty (tests/bench/scan_latency.py
@@ -13,11 +13,13 @@
 //   fault DEVICE drop|stall|garbage|checksum|unplug [SECONDS]   (without SECONDS: until clear)
 //   clear DEVICE
 //   estop on|off               the base's emergency button (dashgo)
+//   limit on|off               the limit switch on the RS-485 bus (r1)
+//   node N on|off              a node of the RS-485 bus answers or not (r1)
 //   wheels                     -> "wheels L R", the base's wheel set-points (dashgo: ticks/frame)
 //   pose                       -> "pose X Y THETA", the emulated base's true pose
 //   set_pose X Y THETA
 //   ray X Y ANGLE HEIGHT       -> "ray RANGE" (or "ray none"): the floor plan seen from (X, Y)
-//   quit                       (or end of input)
+//   quit                       (end of input keeps the devices running until SIGINT/SIGTERM)
 #include <yaml-cpp/yaml.h>
 #include <CLI/CLI.hpp>
 
@@ -58,7 +60,7 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::filesystem::path config_template;
   std::filesystem::path trace_scans;
-  cli.add_option("robot", robot_name, "dashgo")->check(CLI::IsMember({"dashgo"}));
+  cli.add_option("robot", robot_name, "dashgo | r1")->check(CLI::IsMember({"dashgo", "r1"}));
   cli.add_option("--dir", dir, "where the device links and the config go")->required();
   cli.add_option("--world", world_name, "a built-in world or a world.yaml");
   cli.add_option("--seed", seed, "noise seed");
@@ -104,11 +106,17 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
     });
+    bool quit = false;
     for (std::string line; !g_stop && std::getline(std::cin, line);) {
-      if (line == "quit") break;
+      if (line == "quit") {
+        quit = true;
+        break;
+      }
       if (line.empty()) continue;
       std::cout << robot.command(line, seconds()) << std::endl;
     }
+    // Started in the background (no input), the devices live on until a signal stops them.
+    while (!quit && !g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     g_stop = true;
   } catch (const std::exception& error) {
     std::cerr << "mobot-emulate: " << error.what() << '\n';

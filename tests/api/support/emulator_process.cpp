@@ -17,6 +17,8 @@ EmulatorProcess::EmulatorProcess(const std::string& robot, std::uint64_t seed)
     : dir_(MobotdProcess::make_temp_dir()) {
   std::vector<std::string> args{MOBOT_EMULATE_PATH, robot,    "--dir",
                                 dir_.string(),      "--seed", std::to_string(seed)};
+  // Writing to an emulator that died must fail the test, not kill it.
+  ::signal(SIGPIPE, SIG_IGN);
   int in_fds[2];
   int out_fds[2];
   if (::pipe(in_fds) != 0 || ::pipe(out_fds) != 0) throw std::runtime_error("pipe failed");
@@ -45,7 +47,11 @@ EmulatorProcess::EmulatorProcess(const std::string& robot, std::uint64_t seed)
 }
 
 EmulatorProcess::~EmulatorProcess() {
-  if (stdin_fd_ >= 0) ::close(stdin_fd_);  // end of input: the emulator quits
+  if (stdin_fd_ >= 0) {
+    const std::string quit = "quit\n";
+    [[maybe_unused]] const ssize_t written = ::write(stdin_fd_, quit.data(), quit.size());
+    ::close(stdin_fd_);
+  }
   if (pid_ > 0) {
     int status = 0;
     for (int i = 0; i < 100 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) ::usleep(20000);

@@ -71,7 +71,7 @@ class CoupledBus final : public EmulatedDevice {
 // The SICK's driver as the tilt sees it: scans fed in by the test, on the test's thread.
 class FakeLaser final : public hw::LaserScanSource {
  public:
-  void set_listener(Listener listener) override { listener_ = std::move(listener); }
+  void add_listener(Listener listener) override { listener_ = std::move(listener); }  // one here
   drivers::DeviceStatus status() const override {
     const std::lock_guard lock(mutex_);
     return status_;

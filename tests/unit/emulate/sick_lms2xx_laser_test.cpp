@@ -128,7 +128,7 @@ class SickLms2xxLaserTest : public ::testing::Test {
     options.resolution = setup.resolution;
     options.sensor_in_base = {kMountX_m, 0.0, 0.0};
     laser_ = std::make_unique<SickLms2xxLaser>(options);
-    laser_->set_listener([this](const msgs::LaserScan& scan, Clock::time_point at) {
+    laser_->add_listener([this](const msgs::LaserScan& scan, Clock::time_point at) {
       const std::lock_guard lock(mutex_);
       heard_.push_back(at);
       last_heard_ = scan;
