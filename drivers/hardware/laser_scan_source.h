@@ -23,4 +23,16 @@ class LaserScanSource {
   virtual DeviceStatus status() const = 0;
 };
 
+// What SensorDriver::set_arrival_listener needs from a laser (PolledSensor's `subscribe`): each
+// scan of `source` handed on as it arrives.
+inline std::function<void(std::function<void(const msgs::LaserScan&)>)> arrivals_of(
+    LaserScanSource& source) {
+  return [&source](std::function<void(const msgs::LaserScan&)> listener) {
+    source.add_listener([listener = std::move(listener)](const msgs::LaserScan& scan,
+                                                         std::chrono::steady_clock::time_point) {
+      listener(scan);
+    });
+  };
+}
+
 }  // namespace mobot::drivers::hardware

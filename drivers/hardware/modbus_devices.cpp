@@ -236,26 +236,8 @@ void make_modbus_rtu(DeviceReader& entry, HardwareAssembly& assembly) {
   options.sonar_rate_hz = assembly.options.sonar_rate_hz;
 
   std::unique_ptr<ModbusSensorBus> device;
-  double compass_rate_hz = 0.0;
-  double sonar_rate_hz = 0.0;
   try {
     device = std::make_unique<ModbusSensorBus>(options);
-    // The rates the bus really reads at: a slow baud scales them all down to fit the line,
-    // and the watchdog must expect readings at that pace, not the configured one.
-    const modbus::ModbusPollSchedule schedule(
-        {.compass_node = options.compass_node,
-         .sonar_nodes = options.sonar_nodes,
-         .limit_switch_node = options.limit_switch_node,
-         .compass_rate_hz = options.compass_rate_hz,
-         .sonar_rate_hz = options.sonar_rate_hz,
-         .limit_switch_rate_hz = options.limit_switch_rate_hz,
-         .baud = options.baud,
-         .turnaround_s = options.turnaround_s,
-         .max_bus_load = options.max_bus_load,
-         .failures_before_not_ok = options.failures_before_not_ok,
-         .retry_period_s = options.retry_period_s});
-    compass_rate_hz = schedule.effective_rate_hz(modbus::NodeKind::kCompass);
-    sonar_rate_hz = schedule.effective_rate_hz(modbus::NodeKind::kSonar);
   } catch (const std::invalid_argument& error) {
     // The node ids and time-outs were checked above; what is left for the bus to refuse is a
     // baud rate it cannot set.
@@ -264,8 +246,11 @@ void make_modbus_rtu(DeviceReader& entry, HardwareAssembly& assembly) {
     throw BackendError(entry.path() + (baud ? ".baud" : "") + ": " + why);
   }
   const modbus::ModbusRtuBus& bus = device->bus();
-  assembly.drivers.compass = std::make_unique<BusCompass>(bus, compass_rate_hz);
-  assembly.drivers.sonar = std::make_unique<BusSonarRing>(bus, profile, sonar_rate_hz);
+  // The watchdog expects readings at the pace the bus really reads, not the configured one.
+  assembly.drivers.compass =
+      std::make_unique<BusCompass>(bus, bus.effective_rate_hz(modbus::NodeKind::kCompass));
+  assembly.drivers.sonar =
+      std::make_unique<BusSonarRing>(bus, profile, bus.effective_rate_hz(modbus::NodeKind::kSonar));
   assembly.devices.push_back(std::move(device));
 }
 

@@ -47,11 +47,7 @@ void make_ydlidar_g4(DeviceReader& entry, HardwareAssembly& assembly) {
   YdlidarG4Laser& laser = device->laser();
   assembly.drivers.laser = std::make_unique<PolledSensor<msgs::LaserScan>>(
       "laser", options.scan_rate_hz, [&laser] { return laser.take_scan(); },
-      [&laser] { return laser.status(); },
-      [&laser](std::function<void(const msgs::LaserScan&)> listener) {
-        laser.add_listener([listener](const msgs::LaserScan& scan,
-                                      std::chrono::steady_clock::time_point) { listener(scan); });
-      });
+      [&laser] { return laser.status(); }, arrivals_of(laser));
   assembly.laser_source = &laser;
   assembly.devices.push_back(std::move(device));
 }

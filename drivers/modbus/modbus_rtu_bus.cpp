@@ -163,6 +163,11 @@ double ModbusRtuBus::round_s() const {
   return schedule_.round_s();
 }
 
+double ModbusRtuBus::effective_rate_hz(NodeKind kind) const {
+  const std::lock_guard lock(mutex_);
+  return schedule_.effective_rate_hz(kind);
+}
+
 DeviceStatus ModbusRtuBus::status() const {
   const auto now = BusClock::now();
   const std::lock_guard lock(mutex_);

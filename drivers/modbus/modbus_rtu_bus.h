@@ -138,6 +138,9 @@ class ModbusRtuBus {
   // The schedule's estimate of one read of every node back to back: the bytes at the baud and
   // the turnaround of each.
   double round_s() const;
+  // The rate the schedule really reads nodes of `kind` at: a slow baud scales every rate down to
+  // fit the line.
+  double effective_rate_hz(NodeKind kind) const;
 
   const ModbusRtuBusOptions& options() const { return options_; }
 

@@ -2,7 +2,6 @@
 // code, the real protocol, and each fault the line can have.
 #include "drivers/hardware/dashgo_board.h"
 
-#include <dirent.h>
 #include <gtest/gtest.h>
 
 #include "tests/unit/emulate/line_harness.h"
@@ -12,26 +11,6 @@ namespace mobot::emulate {
 namespace {
 
 using testing::eventually;
-
-class FlatWorld final : public EmulatedWorld {
- public:
-  geometry::Pose2D base_pose() const override { return pose_; }
-  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
-  std::optional<double> cast_ray(geometry::Point2D, double, double, double) const override {
-    return std::nullopt;
-  }
-
- private:
-  geometry::Pose2D pose_;
-};
-
-int open_fds() {
-  int count = 0;
-  DIR* dir = ::opendir("/proc/self/fd");
-  while (::readdir(dir) != nullptr) ++count;
-  ::closedir(dir);
-  return count;
-}
 
 class DashgoBoardTest : public ::testing::Test {
  protected:
@@ -54,7 +33,7 @@ class DashgoBoardTest : public ::testing::Test {
   bool ok() const { return board_->health().status().ok; }
   std::string reason() const { return board_->health().status().reason; }
 
-  FlatWorld world_;
+  testing::EmptyWorld world_;
   DashgoBaseDevice* model_ = nullptr;
   std::unique_ptr<testing::LineHarness> harness_;
   std::unique_ptr<drivers::hardware::DashgoBoard> board_;
@@ -119,14 +98,14 @@ TEST_F(DashgoBoardTest, EachLineFaultIsReportedAndRecoveredFrom) {
 TEST_F(DashgoBoardTest, FiftyUnplugsLeakNoFileDescriptor) {
   board_->start();
   ASSERT_TRUE(eventually([&] { return ok(); }, 2.0));
-  const int before = open_fds();
+  const int before = testing::open_fd_count();
   for (int i = 0; i < 50; ++i) {
     harness_->with_line([&](DeviceLine& line) { line.set_fault(LineFault::kUnplug, 0.0, 0.0); });
     ASSERT_TRUE(eventually([&] { return !ok(); }, 1.0));
     harness_->with_line([&](DeviceLine& line) { line.clear_fault(); });
     ASSERT_TRUE(eventually([&] { return ok(); }, 4.0)) << i << ": " << reason();
   }
-  EXPECT_EQ(open_fds(), before);
+  EXPECT_EQ(testing::open_fd_count(), before);
 }
 
 }  // namespace

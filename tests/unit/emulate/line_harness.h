@@ -1,5 +1,7 @@
 #pragma once
 
+#include <dirent.h>
+
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -8,6 +10,7 @@
 #include <thread>
 
 #include "tools/emulate/device_line.h"
+#include "tools/emulate/emulated_world.h"
 
 namespace mobot::emulate::testing {
 
@@ -56,6 +59,28 @@ class LineHarness {
   std::unique_ptr<DeviceLine> line_;
   std::jthread thread_;
 };
+
+// A floor with nothing on it: every ray is a no-return; the base goes where it is put.
+class EmptyWorld final : public EmulatedWorld {
+ public:
+  geometry::Pose2D base_pose() const override { return pose_; }
+  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
+  std::optional<double> cast_ray(geometry::Point2D, double, double, double) const override {
+    return std::nullopt;
+  }
+
+ private:
+  geometry::Pose2D pose_;
+};
+
+// The file descriptors this process holds now: a driver that leaks one per reconnect shows here.
+inline int open_fd_count() {
+  int count = 0;
+  DIR* dir = ::opendir("/proc/self/fd");
+  while (::readdir(dir) != nullptr) ++count;
+  ::closedir(dir);
+  return count;
+}
 
 // Polls `condition` every 5 ms for up to `timeout_s`.
 inline bool eventually(const std::function<bool()>& condition, double timeout_s) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "drivers/protocol/motion_mind.h"
+#include "tests/unit/emulate/line_harness.h"
 
 namespace mobot::emulate {
 namespace {
@@ -19,18 +20,6 @@ namespace mm = protocol::motion_mind;
 
 constexpr double kStep_s = 0.001;
 constexpr double kTimeout_s = 0.05;
-
-class FakeWorld final : public EmulatedWorld {
- public:
-  geometry::Pose2D base_pose() const override { return pose_; }
-  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
-  std::optional<double> cast_ray(geometry::Point2D, double, double, double) const override {
-    return std::nullopt;
-  }
-
- private:
-  geometry::Pose2D pose_;
-};
 
 // The host side of the line, as a driver would run it: arm the parser, write the command, read
 // what comes back every millisecond until the reply is whole or the time-out passes.
@@ -308,7 +297,7 @@ TEST(MotionMindDevice, BadOptionsAreRefused) {
   no_scale.boards[0].counts_per_rev = 0.0;
   EXPECT_THROW(MotionMindBus{no_scale}, std::invalid_argument);
   MotionMindBus bus(two_wheels());
-  FakeWorld world;
+  testing::EmptyWorld world;
   EXPECT_THROW(MotionMindBaseCoupling(bus, 1, 5, world), std::invalid_argument);
 }
 
@@ -333,7 +322,7 @@ TEST(MotionMindDevice, HostileTimesDoNotMoveTheClockBack) {
 
 TEST(MotionMindBaseCouplingTest, EqualSpeedsDriveStraight) {
   MotionMindBus bus(two_wheels());
-  FakeWorld world;
+  testing::EmptyWorld world;
   world.set_base_pose({1.0, 2.0, std::numbers::pi / 2});
   MotionMindBaseCoupling coupling(bus, 1, 2, world);
   Host host(bus, &coupling);
@@ -359,7 +348,7 @@ TEST(MotionMindBaseCouplingTest, EqualSpeedsDriveStraight) {
 
 TEST(MotionMindBaseCouplingTest, OppositeSpeedsTurnOnTheSpot) {
   MotionMindBus bus(two_wheels());
-  FakeWorld world;
+  testing::EmptyWorld world;
   MotionMindBaseCoupling coupling(bus, 1, 2, world);
   Host host(bus, &coupling);
   host.set_up(1, mm::r1_wheel_setup());

@@ -1,6 +1,5 @@
 // R1's Motion Mind drivers (the wheels and the tilt axis on one line) against the emulated boards
 // on a pseudo-terminal: the real serial code, the real protocol, and each fault the line can have.
-#include <dirent.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -31,18 +30,6 @@ constexpr std::uint8_t kTilt = 3;
 constexpr double kTiltCountsPerDegree = 200.0;
 constexpr double kTiltStartDeg = 10.0;
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-
-class FlatWorld final : public EmulatedWorld {
- public:
-  geometry::Pose2D base_pose() const override { return pose_; }
-  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
-  std::optional<double> cast_ray(geometry::Point2D, double, double, double) const override {
-    return std::nullopt;
-  }
-
- private:
-  geometry::Pose2D pose_;
-};
 
 // The boards' line with the wheels moving the world, as the emulated robot couples them.
 class CoupledBus final : public EmulatedDevice {
@@ -99,14 +86,6 @@ msgs::LaserScan laser_scan(float first_range_m) {
   scan.ranges_m.assign(181, 5.0F);
   scan.ranges_m.front() = first_range_m;
   return scan;
-}
-
-int open_fds() {
-  int count = 0;
-  DIR* dir = ::opendir("/proc/self/fd");
-  while (::readdir(dir) != nullptr) ++count;
-  ::closedir(dir);
-  return count;
 }
 
 MotionMindBusOptions r1_boards(std::int32_t left_initial_counts, bool tilt_switch) {
@@ -187,7 +166,7 @@ class MotionMindDriversTest : public ::testing::Test {
     return encoders.value_or(msgs::WheelEncoders{});
   }
 
-  FlatWorld world_;
+  testing::EmptyWorld world_;
   FakeLaser laser_;
   CoupledBus* model_ = nullptr;
   std::unique_ptr<testing::LineHarness> harness_;
@@ -574,14 +553,14 @@ TEST_F(MotionMindDriversTest, FiftyUnplugsLeakNoFileDescriptor) {
   make_drivers(/*wheels_only=*/true);
   start();
   ASSERT_TRUE(eventually([&] { return ok(); }, 2.0)) << reason();
-  const int before = open_fds();
+  const int before = testing::open_fd_count();
   for (int i = 0; i < 50; ++i) {
     harness_->with_line([&](DeviceLine& line) { line.set_fault(LineFault::kUnplug, 0.0, 0.0); });
     ASSERT_TRUE(eventually([&] { return !ok(); }, 1.0));
     harness_->with_line([&](DeviceLine& line) { line.clear_fault(); });
     ASSERT_TRUE(eventually([&] { return ok(); }, 4.0)) << i << ": " << reason();
   }
-  EXPECT_EQ(open_fds(), before);
+  EXPECT_EQ(testing::open_fd_count(), before);
 }
 
 // The factories, as the hardware backend calls them.

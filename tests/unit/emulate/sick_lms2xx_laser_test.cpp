@@ -3,7 +3,6 @@
 // output), the scans it streams, and each fault the line can have.
 #include "drivers/hardware/sick_lms2xx_laser.h"
 
-#include <dirent.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -81,14 +80,6 @@ class TamperingLine final : public EmulatedDevice {
   sick::TelegramStream requests_{sick::StreamDirection::kToLms};
   Tamper tamper_ = Tamper::kNone;
 };
-
-int open_fds() {
-  int count = 0;
-  DIR* dir = ::opendir("/proc/self/fd");
-  while (::readdir(dir) != nullptr) ++count;
-  ::closedir(dir);
-  return count;
-}
 
 struct LineSetup {
   unsigned baud = 38400;
@@ -436,14 +427,14 @@ TEST_F(SickLms2xxLaserTest, ARequestTheLaserKeepsNakingIsRefused) {
 TEST_F(SickLms2xxLaserTest, FiftyUnplugsLeakNoFileDescriptor) {
   start({.baud = 500000, .resolution = sick::AngularResolution::kOneDeg});
   ASSERT_TRUE(eventually([&] { return ok(); }, 4.0)) << reason();
-  const int before = open_fds();
+  const int before = testing::open_fd_count();
   for (int i = 0; i < 50; ++i) {
     fault(LineFault::kUnplug);
     ASSERT_TRUE(eventually([&] { return !ok(); }, 1.0)) << i;
     clear_fault();
     ASSERT_TRUE(eventually([&] { return ok(); }, 4.0)) << i << ": " << reason();
   }
-  EXPECT_EQ(open_fds(), before);
+  EXPECT_EQ(testing::open_fd_count(), before);
 }
 
 // The factory: the config keys, their errors, and what it builds.

@@ -50,20 +50,13 @@ void DashgoBaseDevice::receive(std::span<const std::uint8_t> bytes, double now_s
     }
     const double due_s =
         now_s + options_.reply_delay_s + reply.size() * 10.0 / static_cast<double>(options_.baud);
-    pending_.push_back({due_s, std::move(reply)});
+    replies_.push(due_s, std::move(reply));
   }
 }
 
 std::vector<std::uint8_t> DashgoBaseDevice::transmit(double now_s) {
   advance(now_s);
-  std::vector<std::uint8_t> out;
-  auto due = std::stable_partition(pending_.begin(), pending_.end(),
-                                   [now_s](const Pending& p) { return p.due_s <= now_s; });
-  for (auto it = pending_.begin(); it != due; ++it) {
-    out.insert(out.end(), it->text.begin(), it->text.end());
-  }
-  pending_.erase(pending_.begin(), due);
-  return out;
+  return replies_.take_due(now_s);
 }
 
 std::string DashgoBaseDevice::answer(const std::string& command) {

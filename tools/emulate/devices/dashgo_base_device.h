@@ -7,6 +7,7 @@
 
 #include "core/geometry/pose2d.h"
 #include "drivers/protocol/line_framer.h"
+#include "tools/emulate/devices/timed_replies.h"
 #include "tools/emulate/emulated_device.h"
 #include "tools/emulate/emulated_world.h"
 
@@ -76,11 +77,7 @@ class DashgoBaseDevice final : public EmulatedDevice {
   double right_ticks_zero_ = 0.0;
   bool estop_button_ = false;
   bool garble_replies_ = false;
-  struct Pending {
-    double due_s;
-    std::string text;
-  };
-  std::vector<Pending> pending_;
+  TimedReplies replies_;
 };
 
 }  // namespace mobot::emulate

@@ -24,20 +24,11 @@ void SharpIrDevice::receive(std::span<const std::uint8_t> bytes, double now_s) {
     if (garble_replies_) reply[0] ^= 0x5A;
     const double due_s =
         now_s + options_.reply_delay_s + reply.size() * 10.0 / static_cast<double>(options_.baud);
-    pending_.push_back({due_s, std::move(reply)});
+    replies_.push(due_s, std::move(reply));
   }
 }
 
-std::vector<std::uint8_t> SharpIrDevice::transmit(double now_s) {
-  std::vector<std::uint8_t> out;
-  auto due = std::stable_partition(pending_.begin(), pending_.end(),
-                                   [now_s](const Pending& p) { return p.due_s <= now_s; });
-  for (auto it = pending_.begin(); it != due; ++it) {
-    out.insert(out.end(), it->text.begin(), it->text.end());
-  }
-  pending_.erase(pending_.begin(), due);
-  return out;
-}
+std::vector<std::uint8_t> SharpIrDevice::transmit(double now_s) { return replies_.take_due(now_s); }
 
 std::string SharpIrDevice::answer(const std::string& command) {
   if (command.front() == bridge::kGetBaud) return std::to_string(options_.baud);

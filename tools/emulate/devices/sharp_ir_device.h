@@ -7,6 +7,7 @@
 #include "core/geometry/pose2d.h"
 #include "drivers/protocol/line_framer.h"
 #include "drivers/sim/sharp_ir_adc.h"
+#include "tools/emulate/devices/timed_replies.h"
 #include "tools/emulate/emulated_device.h"
 #include "tools/emulate/emulated_world.h"
 
@@ -43,11 +44,7 @@ class SharpIrDevice final : public EmulatedDevice {
   std::mt19937_64 rng_;
   sim::SharpIrAdc adc_;
   bool garble_replies_ = false;
-  struct Pending {
-    double due_s;
-    std::string text;
-  };
-  std::vector<Pending> pending_;
+  TimedReplies replies_;
 };
 
 }  // namespace mobot::emulate
