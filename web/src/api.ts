@@ -18,6 +18,8 @@ export interface Pose {
 export interface SensorHealth {
   ok: boolean;
   rate_hz: number;
+  /** Only when not ok: `stale`, or the driver's word on its device (`missing`, `silent`, `checksum`, ...). */
+  reason?: string;
 }
 
 export interface RobotStatus {

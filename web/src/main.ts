@@ -160,6 +160,7 @@ const stream = new StreamClient({
           }
           if ((data as { kind?: string }).kind === 'mapping') mapping.onEvent();
           if ((data as { kind?: string }).kind === 'ir_safety') showIrSafety((data as { detail?: unknown }).detail);
+          if ((data as { kind?: string }).kind === 'fault') showFault((data as { detail?: unknown }).detail);
           break;
         default:
           break;
@@ -381,6 +382,12 @@ function onRobotStatus(status: RobotStatus): void {
 function showIrSafety(detail: unknown): void {
   const d = (detail && typeof detail === 'object' ? detail : {}) as { sensor?: unknown; zone?: unknown; reaction?: unknown };
   toast(`IR safety: sensor ${String(d.sensor ?? '?')} in the ${String(d.zone ?? '?')} zone → ${String(d.reaction ?? '?')}`, 'error');
+}
+
+/** A `fault` event: a sensor the robot needs fell silent or its device failed; the robot stopped. */
+function showFault(detail: unknown): void {
+  const d = (detail && typeof detail === 'object' ? detail : {}) as { sensor?: unknown; reason?: unknown };
+  toast(`${String(d.sensor ?? 'a sensor')}: ${String(d.reason ?? 'fault')}, the robot stopped`, 'error');
 }
 
 // ---- connection ----

@@ -274,10 +274,14 @@ export class LivePage {
         .map(([name, health]) =>
           h(
             'span',
-            { class: `sensor ${health.ok ? 'ok' : 'fault'}`, title: `${name}: ${health.ok ? 'ok' : 'FAULT'}, ${fmt(health.rate_hz, 1)} Hz` },
+            {
+              class: `sensor ${health.ok ? 'ok' : 'fault'}`,
+              title: `${name}: ${health.ok ? 'ok' : `FAULT (${health.reason ?? 'unknown'})`}, ${fmt(health.rate_hz, 1)} Hz`,
+            },
             h('span', { class: 'dot' }),
             name,
-            h('span', { class: 'rate', text: `${fmt(health.rate_hz, 0)} Hz` }),
+            // A faulty device says why (a pulled cable reads "missing"), a good one how fast it runs.
+            h('span', { class: 'rate', text: health.ok ? `${fmt(health.rate_hz, 0)} Hz` : (health.reason ?? 'fault') }),
           ),
         ),
     );
