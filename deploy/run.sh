@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and starts mobotd with the simulated robot and the dashboard
 # on http://127.0.0.1:8080. Extra arguments go to mobotd (e.g. --world g2_lobby --port 9000, or
-# --config deploy/config/dashgo_d1.yaml --world office); --config, --backend and --data-dir
-# replace the defaults below when given.
+# --config deploy/config/dashgo_d1.yaml --world office); --config and --data-dir replace the
+# defaults below when given. The backend is the config's: the default config simulates R1, and
+# --config deploy/config/dashgo_d1_hardware.yaml drives a real Dashgo D1.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
@@ -20,6 +21,5 @@ given() {
 }
 defaults=()
 given --config "$@" || defaults+=(--config "$ROOT/deploy/config/default.yaml")
-given --backend "$@" || defaults+=(--backend sim)
 given --data-dir "$@" || defaults+=(--data-dir "$ROOT/var")
 exec "$ROOT/build/server/mobotd" "${defaults[@]}" "$@"
