@@ -48,6 +48,13 @@ bool ArduinoLink::ask_ok(std::string_view command) {
   return ok;
 }
 
+void ArduinoLink::await_boot(const std::stop_token& stop, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!stop.stop_requested() && !ask(bridge::command(bridge::kGetBaud))) {
+    if (std::chrono::steady_clock::now() > deadline) throw serial::DeviceFault("silent");
+  }
+}
+
 void ArduinoLink::judge(bool answered, bool well_formed) {
   misses_ = answered ? 0 : misses_ + 1;
   bad_replies_ = !answered || well_formed ? 0 : bad_replies_ + 1;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <optional>
+#include <stop_token>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,10 @@ class ArduinoLink {
   std::optional<std::vector<long>> ask_integers(std::string_view command, std::size_t count);
   // The reply must be "OK".
   bool ask_ok(std::string_view command);
+  // The sketch restarts when the port opens (DTR) and its boot loader eats what comes for about a
+  // second: asks its baud rate until it answers (returns), `stop` is requested, or `timeout_s`
+  // passes (DeviceFault "silent").
+  void await_boot(const std::stop_token& stop, double timeout_s);
 
  private:
   void judge(bool answered, bool well_formed);

@@ -1,6 +1,6 @@
 #include "drivers/hardware/dashgo_board.h"
 
-#include <thread>
+#include "drivers/serial/cycle_pacer.h"
 
 namespace mobot::drivers::hardware {
 
@@ -50,13 +50,7 @@ DeviceCounters DashgoBoard::counters() const {
 }
 
 void DashgoBoard::boot(ArduinoLink& link, const std::stop_token& stop) {
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.boot_timeout_s);
-  // The boot loader eats what comes while it runs; ask until the sketch answers.
-  while (!stop.stop_requested()) {
-    if (link.ask(bridge::command(bridge::kGetBaud))) break;
-    if (std::chrono::steady_clock::now() > deadline) throw serial::DeviceFault("silent");
-  }
+  link.await_boot(stop, options_.boot_timeout_s);
   if (!link.ask_ok(bridge::update_pid_command(options_.pid)) ||
       !link.ask_ok(bridge::command(bridge::kResetEncoders))) {
     throw serial::DeviceFault("refused");
@@ -69,15 +63,10 @@ void DashgoBoard::session(serial::SerialPort& port, const std::stop_token& stop)
   ArduinoLink link(port, health_, options_.link);
   boot(link, stop);
   health_.set_ok();
-  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(1.0 / options_.poll_rate_hz));
-  auto next = std::chrono::steady_clock::now();
+  serial::CyclePacer pacer(options_.poll_rate_hz);
   for (int cycle_index = 0; !stop.stop_requested(); ++cycle_index) {
     cycle(link, cycle_index);
-    next += period;
-    const auto now = std::chrono::steady_clock::now();
-    if (next < now) next = now;  // a late cycle is not made up for with a burst
-    std::this_thread::sleep_until(next);
+    pacer.wait_next();
   }
   // Leaving (shutdown): the wheels stop now rather than at the firmware's 2 s auto-stop.
   link.ask_ok(bridge::motor_speeds_command(0, 0));

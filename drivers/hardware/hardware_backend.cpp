@@ -41,21 +41,12 @@ const DeviceDriverEntry& find_driver(const std::string& role, const std::string&
   throw BackendError("hardware." + role + ".driver: '" + driver + "' is not one of " + drivers);
 }
 
-kinematics::RobotGeometry geometry_of(const sim::RobotProfile& profile) {
-  return {profile.wheel_radius_m,
-          profile.track_m,
-          static_cast<int>(profile.ticks_per_wheel_rev),
-          profile.footprint_length_m,
-          profile.footprint_width_m,
-          profile.height_m};
-}
-
 }  // namespace
 
 std::span<const DeviceDriverEntry> device_drivers() { return kDrivers; }
 
 HardwareBackend::HardwareBackend(sim::RobotProfile profile, const BackendOptions& options)
-    : profile_(std::move(profile)), options_(options), geometry_(geometry_of(profile_)) {
+    : profile_(std::move(profile)), options_(options), geometry_(sim::geometry_of(profile_)) {
   assembly_ =
       std::make_unique<HardwareAssembly>(HardwareAssembly{profile_, options_, {}, {}, nullptr, {}});
   const YAML::Node& section = options_.hardware;

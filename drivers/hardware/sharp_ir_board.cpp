@@ -1,8 +1,8 @@
 #include "drivers/hardware/sharp_ir_board.h"
 
-#include <thread>
-
 #include "drivers/protocol/ros_arduino_bridge.h"
+
+#include "drivers/serial/cycle_pacer.h"
 
 namespace mobot::drivers::hardware {
 
@@ -41,14 +41,8 @@ std::optional<msgs::IrRing> SharpIrBoard::read_ring(ArduinoLink& link) const {
 
 void SharpIrBoard::session(serial::SerialPort& port, const std::stop_token& stop) {
   ArduinoLink link(port, health_, options_.link);
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.boot_timeout_s);
-  while (!stop.stop_requested() && !link.ask(bridge::command(bridge::kGetBaud))) {
-    if (std::chrono::steady_clock::now() > deadline) throw serial::DeviceFault("silent");
-  }
-  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(1.0 / options_.rate_hz));
-  auto next = std::chrono::steady_clock::now();
+  link.await_boot(stop, options_.boot_timeout_s);
+  serial::CyclePacer pacer(options_.rate_hz);
   while (!stop.stop_requested()) {
     if (std::optional<msgs::IrRing> ring = read_ring(link)) {
       health_.add_frame();
@@ -56,10 +50,7 @@ void SharpIrBoard::session(serial::SerialPort& port, const std::stop_token& stop
       const std::lock_guard lock(mutex_);
       ring_ = std::move(ring);
     }
-    next += period;
-    const auto now = std::chrono::steady_clock::now();
-    if (next < now) next = now;
-    std::this_thread::sleep_until(next);
+    pacer.wait_next();
   }
 }
 

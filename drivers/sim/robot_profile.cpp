@@ -66,6 +66,15 @@ OdometryErrors odometry_errors_of(const RobotProfile& profile) {
           profile.slip_noise_fraction};
 }
 
+kinematics::RobotGeometry geometry_of(const RobotProfile& profile) {
+  return {profile.wheel_radius_m,
+          profile.track_m,
+          static_cast<int>(profile.ticks_per_wheel_rev),
+          profile.footprint_length_m,
+          profile.footprint_width_m,
+          profile.height_m};
+}
+
 RobotProfile r1_profile() {
   RobotProfile p;
   // R1 does not state the wheel size; 0.15 m wheels are typical for a 31 kg base.

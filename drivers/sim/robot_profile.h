@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/geometry/pose2d.h"
+#include "core/kinematics/robot_geometry.h"
 #include "core/perception/tilt_sweep.h"
 #include "drivers/sim/sharp_ir_adc.h"
 
@@ -113,6 +114,9 @@ struct OdometryErrors {
 void set_odometry_errors(RobotProfile& profile, const OdometryErrors& errors);
 // What the profile's wheel scales and slip noise amount to.
 OdometryErrors odometry_errors_of(const RobotProfile& profile);
+
+// The drive geometry the odometry and the kinematics start from (both backends give it).
+kinematics::RobotGeometry geometry_of(const RobotProfile& profile);
 
 // The multi-sensor differential robot of docs/algorithms.md R1.
 RobotProfile r1_profile();

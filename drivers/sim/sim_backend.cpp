@@ -11,15 +11,6 @@
 namespace mobot::sim {
 namespace {
 
-kinematics::RobotGeometry geometry_of(const RobotProfile& profile) {
-  return {profile.wheel_radius_m,
-          profile.track_m,
-          static_cast<int>(profile.ticks_per_wheel_rev),
-          profile.footprint_length_m,
-          profile.footprint_width_m,
-          profile.height_m};
-}
-
 std::filesystem::path worlds_dir_of(const drivers::BackendOptions& options) {
   return options.worlds_dir.empty() ? std::filesystem::path(MOBOT_DEFAULT_WORLDS_DIR)
                                     : options.worlds_dir;

@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "support/api_test.h"
-#include "support/emulator_process.h"
 #include "support/goal_support.h"
+#include "support/hardware_suite.h"
 
 namespace mobot::testing {
 namespace {
@@ -32,21 +32,9 @@ int open_fds(pid_t pid) {
   return count;
 }
 
-class HardwareDashgoTest : public ::testing::Test {
+class HardwareDashgoTest : public HardwareSuite {
  protected:
-  static void SetUpTestSuite() {
-    emulator_ = std::make_unique<EmulatorProcess>("dashgo");
-    add_camera(emulator_->config_path());
-    MobotdProcess::Options options;
-    options.backend = "hardware";
-    options.time_scale = 1.0;
-    options.extra_args = {"--config", emulator_->config_path().string()};
-    server_ = std::make_unique<MobotdProcess>(options);
-  }
-  static void TearDownTestSuite() {
-    server_.reset();
-    emulator_.reset();
-  }
+  static void SetUpTestSuite() { start("dashgo", add_camera); }
   void SetUp() override {
     ASSERT_TRUE(server_->alive());
     // Each test starts with every device answering and the e-stop released.
@@ -74,18 +62,6 @@ class HardwareDashgoTest : public ::testing::Test {
     std::ofstream(config) << text;
   }
 
-  static HttpClient admin() { return {server_->port(), server_->token()}; }
-  static bool all_sensors_ok() {
-    const json state = robot_state(admin());
-    if (!state.contains("sensors")) return false;
-    for (const auto& [name, sensor] : state.at("sensors").items()) {
-      if (!sensor.value("ok", false)) return false;
-    }
-    return true;
-  }
-  static json sensor(const std::string& name) {
-    return robot_state(admin()).at("sensors").value(name, json::object());
-  }
   static EmulatedPose emulated_pose() {
     std::istringstream in(emulator_->command("pose"));
     std::string word;
@@ -113,9 +89,6 @@ class HardwareDashgoTest : public ::testing::Test {
     }
     return count;
   }
-
-  static inline std::unique_ptr<EmulatorProcess> emulator_;
-  static inline std::unique_ptr<MobotdProcess> server_;
 };
 
 TEST_F(HardwareDashgoTest, EveryDeviceAnswersAndShowsOnMetrics) {

@@ -3,42 +3,19 @@
 #include <sstream>
 
 #include "support/api_test.h"
-#include "support/emulator_process.h"
+#include "support/hardware_suite.h"
 
 namespace mobot::testing {
 namespace {
 
-class HardwareR1Test : public ::testing::Test {
+class HardwareR1Test : public HardwareSuite {
  protected:
-  static void SetUpTestSuite() {
-    emulator_ = std::make_unique<EmulatorProcess>("r1");
-    MobotdProcess::Options options;
-    options.backend = "hardware";
-    options.time_scale = 1.0;
-    options.extra_args = {"--config", emulator_->config_path().string()};
-    server_ = std::make_unique<MobotdProcess>(options);
-  }
-  static void TearDownTestSuite() {
-    server_.reset();
-    emulator_.reset();
-  }
+  static void SetUpTestSuite() { start("r1"); }
   void SetUp() override {
     ASSERT_TRUE(server_->alive());
     ASSERT_TRUE(wait_until([] { return all_sensors_ok(); }, 15s)) << robot_state(admin()).dump();
   }
 
-  static HttpClient admin() { return {server_->port(), server_->token()}; }
-  static bool all_sensors_ok() {
-    const json state = robot_state(admin());
-    if (!state.contains("sensors")) return false;
-    for (const auto& [name, sensor] : state.at("sensors").items()) {
-      if (!sensor.value("ok", false)) return false;
-    }
-    return true;
-  }
-  static json sensor(const std::string& name) {
-    return robot_state(admin()).at("sensors").value(name, json::object());
-  }
   static std::pair<double, double> emulated_xy() {
     std::istringstream in(emulator_->command("pose"));
     std::string word;
@@ -46,9 +23,6 @@ class HardwareR1Test : public ::testing::Test {
     in >> word >> xy.first >> xy.second;
     return xy;
   }
-
-  static inline std::unique_ptr<EmulatorProcess> emulator_;
-  static inline std::unique_ptr<MobotdProcess> server_;
 };
 
 TEST_F(HardwareR1Test, EveryDeviceAnswers) {

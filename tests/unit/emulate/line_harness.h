@@ -2,11 +2,15 @@
 
 #include <dirent.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "tools/emulate/device_line.h"
@@ -70,6 +74,35 @@ class EmptyWorld final : public EmulatedWorld {
   }
 
  private:
+  geometry::Pose2D pose_;
+};
+
+// An empty rectangular room: every ray from inside hits a wall.
+class BoxWorld final : public EmulatedWorld {
+ public:
+  BoxWorld(double min_x, double max_x, double min_y, double max_y)
+      : min_x_(min_x), max_x_(max_x), min_y_(min_y), max_y_(max_y) {}
+
+  geometry::Pose2D base_pose() const override { return pose_; }
+  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
+  std::optional<double> cast_ray(geometry::Point2D from, double angle_rad, double /*height_m*/,
+                                 double max_range_m) const override {
+    const double dx = std::cos(angle_rad);
+    const double dy = std::sin(angle_rad);
+    double range_m = std::numeric_limits<double>::infinity();
+    if (dx > 1e-12) range_m = std::min(range_m, (max_x_ - from.x) / dx);
+    if (dx < -1e-12) range_m = std::min(range_m, (min_x_ - from.x) / dx);
+    if (dy > 1e-12) range_m = std::min(range_m, (max_y_ - from.y) / dy);
+    if (dy < -1e-12) range_m = std::min(range_m, (min_y_ - from.y) / dy);
+    if (range_m > max_range_m) return std::nullopt;
+    return range_m;
+  }
+
+ private:
+  double min_x_;
+  double max_x_;
+  double min_y_;
+  double max_y_;
   geometry::Pose2D pose_;
 };
 

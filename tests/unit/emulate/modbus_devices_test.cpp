@@ -26,35 +26,6 @@ using testing::eventually;
 constexpr double kPi = std::numbers::pi;
 constexpr double kHeadingOffset_rad = 0.7;
 
-// An empty rectangular room: every ray from inside hits a wall.
-class BoxWorld final : public EmulatedWorld {
- public:
-  BoxWorld(double min_x, double max_x, double min_y, double max_y)
-      : min_x_(min_x), max_x_(max_x), min_y_(min_y), max_y_(max_y) {}
-
-  geometry::Pose2D base_pose() const override { return pose_; }
-  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
-  std::optional<double> cast_ray(geometry::Point2D from, double angle_rad, double /*height_m*/,
-                                 double max_range_m) const override {
-    const double dx = std::cos(angle_rad);
-    const double dy = std::sin(angle_rad);
-    double range_m = std::numeric_limits<double>::infinity();
-    if (dx > 1e-12) range_m = std::min(range_m, (max_x_ - from.x) / dx);
-    if (dx < -1e-12) range_m = std::min(range_m, (min_x_ - from.x) / dx);
-    if (dy > 1e-12) range_m = std::min(range_m, (max_y_ - from.y) / dy);
-    if (dy < -1e-12) range_m = std::min(range_m, (min_y_ - from.y) / dy);
-    if (range_m > max_range_m) return std::nullopt;
-    return range_m;
-  }
-
- private:
-  double min_x_;
-  double max_x_;
-  double min_y_;
-  double max_y_;
-  geometry::Pose2D pose_;
-};
-
 // What the backend builds the roles into; every member spelt out, as -Wextra wants.
 HardwareAssembly assembly_of(const sim::RobotProfile& profile,
                              const drivers::BackendOptions& options) {
@@ -111,7 +82,7 @@ class ModbusDevicesTest : public ::testing::Test {
     return "";
   }
 
-  BoxWorld world_{-5.0, 2.3, -5.0, 1.30};
+  testing::BoxWorld world_{-5.0, 2.3, -5.0, 1.30};
   ModbusSensorBusDevice* model_ = nullptr;
   std::unique_ptr<testing::LineHarness> harness_;
   sim::RobotProfile profile_ = sim::r1_profile();

@@ -1,4 +1,5 @@
 #include "tools/emulate/devices/modbus_sensor_bus_device.h"
+#include "tests/unit/emulate/line_harness.h"
 
 #include <gtest/gtest.h>
 
@@ -21,35 +22,6 @@ constexpr double kByte_s = 10.0 / 115200.0;
 constexpr double kSilence_s = 0.00175;
 constexpr double kLater_s = 1.0;  // long after any reply has gone out
 
-// An empty rectangular room: every ray from inside hits a wall.
-class BoxWorld : public EmulatedWorld {
- public:
-  BoxWorld(double min_x, double max_x, double min_y, double max_y)
-      : min_x_(min_x), max_x_(max_x), min_y_(min_y), max_y_(max_y) {}
-
-  geometry::Pose2D base_pose() const override { return pose_; }
-  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
-  std::optional<double> cast_ray(geometry::Point2D from, double angle_rad, double /*height_m*/,
-                                 double max_range_m) const override {
-    const double dx = std::cos(angle_rad);
-    const double dy = std::sin(angle_rad);
-    double range_m = std::numeric_limits<double>::infinity();
-    if (dx > 1e-12) range_m = std::min(range_m, (max_x_ - from.x) / dx);
-    if (dx < -1e-12) range_m = std::min(range_m, (min_x_ - from.x) / dx);
-    if (dy > 1e-12) range_m = std::min(range_m, (max_y_ - from.y) / dy);
-    if (dy < -1e-12) range_m = std::min(range_m, (min_y_ - from.y) / dy);
-    if (range_m > max_range_m) return std::nullopt;
-    return range_m;
-  }
-
- private:
-  double min_x_;
-  double max_x_;
-  double min_y_;
-  double max_y_;
-  geometry::Pose2D pose_;
-};
-
 ModbusSensorBusOptions quiet_options() {
   ModbusSensorBusOptions options;
   options.compass_noise_rad = 0.0;
@@ -68,7 +40,7 @@ class ModbusSensorBusDeviceTest : public ::testing::Test {
   }
 
   // The room reaches 1 m in front of the left-side sonars (at y = 0.30) and 5 m elsewhere.
-  BoxWorld world_{-5.0, 5.0, -5.0, 1.30};
+  testing::BoxWorld world_{-5.0, 5.0, -5.0, 1.30};
   ModbusSensorBusDevice device_{world_, quiet_options(), 7};
   double now_s_ = 0.0;
 };
@@ -231,7 +203,7 @@ TEST_F(ModbusSensorBusDeviceTest, TimeNeverRunsBackwards) {
 }
 
 TEST(ModbusSensorBusDevice, NoiseIsAboutOneDegreeAndSeeded) {
-  BoxWorld world(-5.0, 5.0, -5.0, 5.0);
+  testing::BoxWorld world(-5.0, 5.0, -5.0, 5.0);
   world.set_base_pose({0.0, 0.0, -1.0});  // 57.3 degrees on the compass
   const auto headings = [&world](std::uint64_t seed) {
     ModbusSensorBusDevice device(world, ModbusSensorBusOptions{}, seed);
@@ -259,7 +231,7 @@ TEST(ModbusSensorBusDevice, NoiseIsAboutOneDegreeAndSeeded) {
 }
 
 TEST(ModbusSensorBusDevice, RejectsABusItCannotModel) {
-  BoxWorld world(-1.0, 1.0, -1.0, 1.0);
+  testing::BoxWorld world(-1.0, 1.0, -1.0, 1.0);
   ModbusSensorBusOptions repeated;
   repeated.limit_switch_node = 2;
   EXPECT_THROW(ModbusSensorBusDevice(world, repeated, 1), std::invalid_argument);

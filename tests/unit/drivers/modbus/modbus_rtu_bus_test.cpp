@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/geometry/pose2d.h"
+#include "tests/unit/emulate/line_harness.h"
 #include "tools/emulate/devices/modbus_sensor_bus_device.h"
 
 namespace mobot::drivers::modbus {
@@ -32,35 +33,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = std::numbers::pi;
-
-// An empty rectangular room: every ray from inside hits a wall.
-class BoxWorld : public emulate::EmulatedWorld {
- public:
-  BoxWorld(double min_x, double max_x, double min_y, double max_y)
-      : min_x_(min_x), max_x_(max_x), min_y_(min_y), max_y_(max_y) {}
-
-  geometry::Pose2D base_pose() const override { return pose_; }
-  void set_base_pose(const geometry::Pose2D& pose) override { pose_ = pose; }
-  std::optional<double> cast_ray(geometry::Point2D from, double angle_rad, double /*height_m*/,
-                                 double max_range_m) const override {
-    const double dx = std::cos(angle_rad);
-    const double dy = std::sin(angle_rad);
-    double range_m = std::numeric_limits<double>::infinity();
-    if (dx > 1e-12) range_m = std::min(range_m, (max_x_ - from.x) / dx);
-    if (dx < -1e-12) range_m = std::min(range_m, (min_x_ - from.x) / dx);
-    if (dy > 1e-12) range_m = std::min(range_m, (max_y_ - from.y) / dy);
-    if (dy < -1e-12) range_m = std::min(range_m, (min_y_ - from.y) / dy);
-    if (range_m > max_range_m) return std::nullopt;
-    return range_m;
-  }
-
- private:
-  double min_x_;
-  double max_x_;
-  double min_y_;
-  double max_y_;
-  geometry::Pose2D pose_;
-};
 
 // The model and the lock that lets the test change it while the pty thread drives it.
 struct SharedDevice {
@@ -222,7 +194,7 @@ class ModbusRtuBusTest : public ::testing::Test {
     return true;
   }
 
-  BoxWorld world_{-5.0, 2.3, -5.0, 1.30};
+  emulate::testing::BoxWorld world_{-5.0, 2.3, -5.0, 1.30};
   SharedDevice shared_{.mutex = {}, .device = {world_, model_options(), 11}};
   std::filesystem::path directory_;
   std::filesystem::path link_path_;
