@@ -269,7 +269,7 @@ nlohmann::json snapshot_json(const RobotSnapshot& snapshot) {
     // "checksum", "garbage", ...).
     if (!health.ok) sensors[name]["reason"] = health.reason;
   }
-  return {
+  nlohmann::json body{
       {"t", snapshot.t_s},
       {"mode", snapshot.mode},
       {"pose", pose_json(snapshot.pose)},
@@ -280,7 +280,25 @@ nlohmann::json snapshot_json(const RobotSnapshot& snapshot) {
         {"converged", snapshot.localization_converged}}},
       {"kinematics", snapshot.kinematics},
       {"estop", snapshot.estop},
-      {"sensors", std::move(sensors)}};
+      {"sensors", std::move(sensors)},
+      {"geometry",
+       {{"footprint_length_m", snapshot.geometry.footprint_length_m},
+        {"footprint_width_m", snapshot.geometry.footprint_width_m},
+        {"footprint_offset_m", snapshot.geometry.footprint_offset_m},
+        {"wheelbase_m", snapshot.geometry.wheelbase_m}}}};
+  if (snapshot.steering_rad) body["steering_rad"] = *snapshot.steering_rad;
+  return body;
+}
+
+nlohmann::json tracking_json(const TrackingSnapshot& snapshot) {
+  nlohmann::json body{{"status", snapshot.status}};
+  if (snapshot.box) {
+    body["box"] = {{"x", snapshot.box->x}, {"y", snapshot.box->y}, {"w", snapshot.box->w},
+                   {"h", snapshot.box->h}};
+  }
+  if (snapshot.target) body["target"] = {{"x", snapshot.target->x}, {"y", snapshot.target->y}};
+  if (snapshot.range_m) body["range_m"] = *snapshot.range_m;
+  return body;
 }
 
 }  // namespace mobot::api

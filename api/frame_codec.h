@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "core/estimation/weighted_pose.h"
 #include "core/geometry/pose2d.h"
@@ -38,6 +39,8 @@ std::string encode_json_frame(std::string_view topic, const FrameStamp& stamp,
 // The camera topic: the body is the JPEG file as the driver encoded it.
 std::string encode_binary_camera(const FrameStamp& stamp, const msgs::Image& image);
 nlohmann::json camera_json(const msgs::Image& image);
+// GET /api/v1/tracking's body and the target topic's data.
+nlohmann::json tracking_json(const TrackingSnapshot& snapshot);
 std::string encode_binary_scan(const FrameStamp& stamp, const msgs::LaserScan& scan,
                                const geometry::Pose2D& sensor_in_map);
 std::string encode_binary_map(const FrameStamp& stamp, const mapping::OccupancyGrid& grid,

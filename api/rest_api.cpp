@@ -124,6 +124,9 @@ Handled RestApi::route(const Request& request, const Segments& path, const Repli
   if (resource == "localization") return route_localization(request, path, reply);
   if (resource == "mapping") return route_mapping(request, path, reply);
   if (resource == "sweeps") return route_sweeps(request, path, reply);
+  if (resource == "camera") return route_camera(request, path, reply);
+  if (resource == "tracking") return route_tracking(request, path, reply);
+  if (resource == "follow") return route_follow(request, path, reply);
   if (path.size() != 3) throw ApiError(404, "not_found", "no such endpoint");
   if (resource == "robot") {
     if (method != http::verb::get) method_not_allowed();

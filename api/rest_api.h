@@ -59,6 +59,14 @@ class RestApi {
   Handled route_zones(const Request& request, const Segments& path, std::int64_t map_id,
                       const Replier& reply);
   Handled route_sweeps(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_camera(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_tracking(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_follow(const Request& request, const Segments& path, const Replier& reply);
+  Handled route_sim_targets(const Request& request, const Segments& path, const Replier& reply);
+  Handled add_target(const Request& request, const Replier& reply);
+  Handled remove_target(std::string_view id_text, const Replier& reply);
+  // The robot's camera, or 404 no_camera.
+  CameraDescription require_camera() const;
   Response route_sweep(const Request& request, const Segments& path);
   Response serve_static(const Request& request, std::string_view path) const;
   Role require_role(const Request& request, Role needed) const;

@@ -42,9 +42,11 @@ GoalRequest parse_goal(const nlohmann::json& body, const ControlPort& control) {
   GoalRequest request;
   request.has_heading = body.contains("theta") && !body["theta"].is_null();
   request.target = parse_pose(body, false);
-  request.planner = choose(body, "planner", "astar", kContractPlanners, control.planner_names());
+  request.planner =
+      choose(body, "planner", control.default_planner(), kContractPlanners, control.planner_names());
   request.controller =
-      choose(body, "controller", "lyapunov", kContractControllers, control.controller_names());
+      choose(body, "controller", control.default_controller(), kContractControllers,
+             control.controller_names());
   return request;
 }
 

@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include "api/api_error.h"
 #include "api/frame_codec.h"
 #include "api/json_request.h"
@@ -18,6 +20,7 @@ Handled RestApi::route_sim(const Request& request, const Segments& path, const R
   if (path[2] != "sim" || path.size() < 4) throw ApiError(404, "not_found", "no such endpoint");
   const std::string_view what = path[3];
   if (what == "obstacles") return route_sim_obstacles(request, path, reply);
+  if (what == "targets") return route_sim_targets(request, path, reply);
   if (path.size() != 4) throw ApiError(404, "not_found", "no such endpoint");
   if (what == "truth") {
     if (method != http::verb::get) throw ApiError(405, "method_not_allowed", "use GET");
@@ -68,9 +71,10 @@ Response RestApi::list_worlds(const Request& request) const {
 
 Response RestApi::sim_truth(const Request& request) const {
   const SimTruth truth = ports_.sim->sim_truth();
-  return json_response(
-      request, http::status::ok,
-      {{"t", truth.t_s}, {"pose", pose_json(truth.pose)}, {"collisions", truth.collisions}});
+  nlohmann::json body{
+      {"t", truth.t_s}, {"pose", pose_json(truth.pose)}, {"collisions", truth.collisions}};
+  if (truth.steering_rad) body["steering_rad"] = *truth.steering_rad;
+  return json_response(request, http::status::ok, body);
 }
 
 Handled RestApi::sim_reset(const Request& request, const Replier& reply) {
@@ -130,6 +134,67 @@ Handled RestApi::remove_obstacle(std::string_view id_text, const Replier& reply)
                                   reply.completion<Done>([](const Request& head, const Done&) {
                                     return no_content_response(head);
                                   }));
+  return kReplyLater;
+}
+
+Handled RestApi::route_sim_targets(const Request& request, const Segments& path,
+                                   const Replier& reply) {
+  const auto method = request.method();
+  if (path.size() == 4) {
+    if (method != http::verb::post) throw ApiError(405, "method_not_allowed", "use POST");
+    require_role(request, Role::kOperator);
+    return add_target(request, reply);
+  }
+  if (path.size() == 5) {
+    if (method != http::verb::delete_) throw ApiError(405, "method_not_allowed", "use DELETE");
+    require_role(request, Role::kOperator);
+    return remove_target(path[4], reply);
+  }
+  throw ApiError(404, "not_found", "no such endpoint");
+}
+
+Handled RestApi::add_target(const Request& request, const Replier& reply) {
+  const nlohmann::json body = parse_json_body(request.body());
+  SimTargetRequest target;
+  if (!body.contains("color") || !body["color"].is_array() || body["color"].size() != 3) {
+    throw ApiError(400, "invalid_field", "'color' must be [r, g, b], each 0..255");
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    const nlohmann::json& c = body["color"][i];
+    if (!c.is_number_integer() || c.get<long long>() < 0 || c.get<long long>() > 255) {
+      throw ApiError(400, "invalid_field", "'color' must be [r, g, b], each 0..255");
+    }
+    target.color[i] = static_cast<int>(c.get<long long>());
+  }
+  target.radius_m = require_number(body, "radius", 0.01, 5.0);
+  target.height_m = require_number(body, "height", 0.0, 10.0);
+  target.speed_mps = require_number(body, "speed", 0.0, 10.0);
+  target.loop = optional_bool(body, "loop").value_or(true);
+  if (!body.contains("path") || !body["path"].is_array() || body["path"].empty() ||
+      body["path"].size() > 1000) {
+    throw ApiError(400, "invalid_field", "'path' must be 1..1000 points [x, y]");
+  }
+  for (const nlohmann::json& point : body["path"]) {
+    if (!point.is_array() || point.size() != 2 || !point[0].is_number() || !point[1].is_number() ||
+        !std::isfinite(point[0].get<double>()) || !std::isfinite(point[1].get<double>()) ||
+        std::abs(point[0].get<double>()) > 1e4 || std::abs(point[1].get<double>()) > 1e4) {
+      throw ApiError(400, "invalid_field", "'path' must be 1..1000 points [x, y] within 1e4 m");
+    }
+    target.path.push_back({point[0].get<double>(), point[1].get<double>()});
+  }
+  ports_.sim->add_sim_target(target, reply.completion<int>([](const Request& head, int id) {
+    return json_response(head, http::status::created, {{"id", id}});
+  }));
+  return kReplyLater;
+}
+
+Handled RestApi::remove_target(std::string_view id_text, const Replier& reply) {
+  const auto id = parse_id(id_text);
+  if (!id || *id > 1'000'000'000) throw ApiError(404, "unknown_target", "no target with this id");
+  ports_.sim->remove_sim_target(static_cast<int>(*id),
+                                reply.completion<Done>([](const Request& head, const Done&) {
+                                  return no_content_response(head);
+                                }));
   return kReplyLater;
 }
 

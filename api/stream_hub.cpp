@@ -49,18 +49,20 @@ void StreamHub::publish_json(TopicId topic, double t_s, const nlohmann::json& da
 }
 
 void StreamHub::publish_pose(double t_s, const geometry::Pose2D& pose, const msgs::Twist& velocity,
-                             const std::array<double, 9>& covariance) {
+                             const std::array<double, 9>& covariance,
+                             std::optional<double> steering_rad) {
   if (!wanted(TopicId::kPose)) {
     next_stamp(TopicId::kPose, t_s);
     return;
   }
-  publish_json(TopicId::kPose, t_s,
-               {{"x", pose.x},
-                {"y", pose.y},
-                {"theta", pose.theta},
-                {"v", velocity.linear_mps},
-                {"w", velocity.angular_radps},
-                {"cov", covariance}});
+  nlohmann::json data{{"x", pose.x},
+                      {"y", pose.y},
+                      {"theta", pose.theta},
+                      {"v", velocity.linear_mps},
+                      {"w", velocity.angular_radps},
+                      {"cov", covariance}};
+  if (steering_rad) data["steering_rad"] = *steering_rad;
+  publish_json(TopicId::kPose, t_s, std::move(data));
 }
 
 void StreamHub::publish_odom(const msgs::Odometry& odometry) {
@@ -103,6 +105,14 @@ void StreamHub::publish_camera(const msgs::Image& image) {
   publish_bulk(
       TopicId::kCamera, image.stamp_s, [&] { return camera_json(image); },
       [&](const FrameStamp& stamp) { return encode_binary_camera(stamp, image); });
+}
+
+void StreamHub::publish_target(const TrackingSnapshot& snapshot) {
+  if (!wanted(TopicId::kTarget)) {
+    next_stamp(TopicId::kTarget, snapshot.t_s);
+    return;
+  }
+  publish_json(TopicId::kTarget, snapshot.t_s, tracking_json(snapshot));
 }
 
 void StreamHub::publish_cloud(double t_s, const CloudChunk& chunk,
@@ -244,8 +254,9 @@ void StreamHub::publish_truth(const SimTruth& truth) {
     next_stamp(TopicId::kTruth, truth.t_s);
     return;
   }
-  publish_json(TopicId::kTruth, truth.t_s,
-               {{"pose", pose_json(truth.pose)}, {"collisions", truth.collisions}});
+  nlohmann::json data{{"pose", pose_json(truth.pose)}, {"collisions", truth.collisions}};
+  if (truth.steering_rad) data["steering_rad"] = *truth.steering_rad;
+  publish_json(TopicId::kTruth, truth.t_s, std::move(data));
 }
 
 void StreamHub::distribute(TopicId topic, const SharedFrame& frame) {

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/frame_codec.h"
+#include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "api/ports/sim_control_port.h"
 #include "api/stream_topics.h"
@@ -65,8 +66,10 @@ class StreamHub {
  public:
   explicit StreamHub(StreamOptions options);
 
+  // steering_rad: a steered base's steering angle, sent as "steering_rad" when there is one.
   void publish_pose(double t_s, const geometry::Pose2D& pose, const msgs::Twist& velocity,
-                    const std::array<double, 9>& covariance);
+                    const std::array<double, 9>& covariance,
+                    std::optional<double> steering_rad = std::nullopt);
   void publish_odom(const msgs::Odometry& odometry);
   void publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D& sensor_in_map);
   void publish_sonar(const msgs::SonarRing& ring, const geometry::Pose2D& base_in_map);
@@ -74,6 +77,7 @@ class StreamHub {
                    std::int64_t map_id);
   void publish_ir(const msgs::IrRing& ring, const geometry::Pose2D& base_in_map);
   void publish_camera(const msgs::Image& image);
+  void publish_target(const TrackingSnapshot& snapshot);
   void publish_costmap(double t_s, const planning::PlanningGrid& costmap, bool local);
   void publish_particles(double t_s, std::span<const estimation::WeightedPose> particles,
                          std::size_t total);

@@ -24,9 +24,10 @@ enum class TopicId : std::uint8_t {
   kCostmap,
   kLocalCostmap,
   kParticles,
-  kCamera
+  kCamera,
+  kTarget
 };
-inline constexpr std::size_t kTopicCount = 16;
+inline constexpr std::size_t kTopicCount = 17;
 
 struct TopicSpec {
   TopicId id;
@@ -56,6 +57,8 @@ inline constexpr std::array<TopicSpec, kTopicCount> kTopics{{
     {TopicId::kParticles, "particles", 6, false, true},
     // One JPEG per frame (binary body: the file), at the camera driver's rate.
     {TopicId::kCamera, "camera", 5, false, true},
+    // The tracked target, as GET /api/v1/tracking, on every frame the tracker processed.
+    {TopicId::kTarget, "target", 0, false, true},
 }};
 
 // The map body's flags (README: binary frames): bit 0, the frame holds changed tiles.

@@ -7,6 +7,7 @@ DEB_PACKAGES=(
   build-essential cmake pkg-config git ca-certificates
   libboost-dev libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 libssl-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-videoio-dev
+  libopencv-video-dev
   libmodbus-dev
   libspdlog-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev

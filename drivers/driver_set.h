@@ -1,14 +1,18 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "core/msgs/compass_reading.h"
 #include "core/msgs/image.h"
 #include "core/msgs/ir_ring.h"
 #include "core/msgs/landmark_bearing.h"
 #include "core/msgs/laser_scan.h"
+#include "core/msgs/head_range.h"
 #include "core/msgs/sonar_ring.h"
 #include "drivers/base_driver.h"
+#include "drivers/camera_info.h"
+#include "drivers/pan_tilt_driver.h"
 #include "drivers/sensor_driver.h"
 #include "drivers/tilt_laser_driver.h"
 
@@ -24,7 +28,11 @@ struct DriverSet {
   std::unique_ptr<SensorDriver<msgs::CompassReading>> compass;
   // The omnidirectional camera's landmark bearings (docs/algorithms.md E2, set 3).
   std::unique_ptr<SensorDriver<msgs::LandmarkBearings>> bearings;
-  std::unique_ptr<SensorDriver<msgs::Image>> camera;
+  std::unique_ptr<SensorDriver<msgs::Image>> camera;  // JPEG frames
+  std::optional<CameraInfo> camera_info;              // with a camera
+  std::unique_ptr<PanTiltDriver> pan_tilt;            // a camera on a pan/tilt head (R4)
+  // The ultrasonic ranger on the head, looking where the camera looks (R4).
+  std::unique_ptr<SensorDriver<msgs::HeadRange>> head_range;
   std::unique_ptr<TiltLaserDriver> tilt;
 };
 

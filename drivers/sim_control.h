@@ -8,6 +8,7 @@
 
 #include "core/geometry/pose2d.h"
 #include "core/mapping/occupancy_grid.h"
+#include "drivers/sim/moving_target.h"
 
 namespace mobot::sim {
 struct World;
@@ -35,6 +36,8 @@ class SimControl {
 
   virtual geometry::Pose2D true_pose() const = 0;
   virtual int collision_count() const = 0;
+  // A steered base's true steering angle; nothing for a differential base.
+  virtual std::optional<double> true_steering_rad() const { return std::nullopt; }
   virtual std::string world_name() const = 0;
   // The current world's floor plan as a map at the robot's height.
   virtual mapping::OccupancyGrid surveyed_map() const = 0;
@@ -59,6 +62,10 @@ class SimControl {
   // Returns the id; std::invalid_argument for a radius or height that is not positive and finite.
   virtual int add_obstacle(double x_m, double y_m, double radius_m, double height_m) = 0;
   virtual bool remove_obstacle(int id) = 0;
+  // A coloured ball the cameras see (sim::MovingTarget's checks: std::invalid_argument naming
+  // the field); its id.
+  virtual int add_target(const sim::MovingTargetSpec& spec) = 0;
+  virtual bool remove_target(int id) = 0;
 };
 
 }  // namespace mobot::drivers

@@ -149,7 +149,7 @@ App::App(Config config)
   control_ = std::make_unique<ControlService>(
       runtime, *recorder_,
       ControlStages{robot_->mux(), robot_->navigate(), robot_->estimate(), robot_->write_base()},
-      robot_->kinematics(), robot_->plugins());
+      robot_->kinematics(), robot_->plugins(), config_.navigation);
   map_catalog_ = std::make_unique<MapCatalog>(maps_, zones_, runtime, robot_->map_listeners());
   mapping_ = std::make_unique<MappingService>(
       runtime, *recorder_, *map_catalog_,
@@ -157,6 +157,9 @@ App::App(Config config)
   localization_ = std::make_unique<LocalizationService>(runtime, *recorder_, robot_->estimate(),
                                                         robot_->plugins());
   run_archive_ = std::make_unique<RunArchive>(runs_, *recorder_, runtime);
+  camera_ = std::make_unique<CameraService>(runtime, *recorder_, robot_->tracking(),
+                                            robot_->follow(), robot_->navigate(),
+                                            robot_->backend().drivers().pan_tilt.get());
   if (drivers::SimControl* sim = robot_->backend().sim_control()) {
     if (config_.sim.provide_map) {
       map_catalog_->ensure_named_map(sim->world_name(), sim->surveyed_map(),
@@ -177,8 +180,8 @@ App::App(Config config)
 App::~App() { shut_down(); }
 
 api::Ports App::ports() {
-  return {*control_,     *map_catalog_, *mapping_, *localization_, *run_archive_,
-          *token_admin_, *sweeps_,      *this,     sim_.get()};
+  return {*control_, *map_catalog_, *mapping_, *localization_, *run_archive_,
+          *token_admin_, *sweeps_, *this, *camera_, sim_.get()};
 }
 
 void App::ensure_admin_token() {

@@ -28,6 +28,7 @@
 #include "server/services/map_catalog.h"
 #include "server/services/mapping_service.h"
 #include "server/services/run_archive.h"
+#include "server/services/camera_service.h"
 #include "server/services/sim_service.h"
 #include "server/services/token_admin.h"
 #include "server/sweeps.h"
@@ -74,6 +75,7 @@ class App final : public api::SystemPort {
   std::unique_ptr<RunArchive> run_archive_;
   std::unique_ptr<TokenAdmin> token_admin_;
   std::unique_ptr<SimService> sim_;
+  std::unique_ptr<CameraService> camera_;
   std::unique_ptr<api::RestApi> rest_;
   boost::asio::io_context io_;
   std::unique_ptr<api::HttpServer> http_;

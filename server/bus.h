@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/frame_codec.h"
+#include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "api/ports/sim_control_port.h"
 #include "core/estimation/weighted_pose.h"
@@ -52,6 +53,7 @@ struct PoseSample {
   msgs::Twist velocity;
   std::array<double, 9> covariance{};
   double distance_m = 0.0;  // travelled in this run, resets included
+  std::optional<double> steering_rad;  // a steered base's
 };
 
 struct ScanSample {
@@ -127,7 +129,8 @@ struct Bus {
   Topic<ScanSample> scan;
   Topic<SonarSample> sonar;
   Topic<IrSample> ir;
-  Topic<msgs::Image> camera;  // JPEG frames of a real camera
+  Topic<msgs::Image> camera;  // JPEG frames
+  Topic<api::TrackingSnapshot> target;
   Topic<CostmapSample> costmap;
   Topic<ParticlesSample> particles;
   Topic<MapSample> map;

@@ -8,7 +8,8 @@ namespace mobot::server {
 
 void connect_stream_hub(Bus& bus, api::StreamHub& hub) {
   bus.pose.subscribe([&hub](const PoseSample& sample) {
-    hub.publish_pose(sample.t_s, sample.pose, sample.velocity, sample.covariance);
+    hub.publish_pose(sample.t_s, sample.pose, sample.velocity, sample.covariance,
+                     sample.steering_rad);
   });
   bus.odom.subscribe([&hub](const msgs::Odometry& odometry) { hub.publish_odom(odometry); });
   bus.scan.subscribe(
@@ -18,6 +19,8 @@ void connect_stream_hub(Bus& bus, api::StreamHub& hub) {
   bus.ir.subscribe(
       [&hub](const IrSample& sample) { hub.publish_ir(sample.ring, sample.base_in_map); });
   bus.camera.subscribe([&hub](const msgs::Image& image) { hub.publish_camera(image); });
+  bus.target.subscribe(
+      [&hub](const api::TrackingSnapshot& snapshot) { hub.publish_target(snapshot); });
   bus.costmap.subscribe([&hub](const CostmapSample& sample) {
     hub.publish_costmap(sample.t_s, *sample.costmap, sample.local);
   });

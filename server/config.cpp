@@ -164,7 +164,7 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"localization", {"method"}},
       {"navigation",
        {"goal_tolerance_m", "goal_tolerance_rad", "max_linear_mps", "inscribed_radius_m",
-        "avoidance_distance_m"}},
+        "avoidance_distance_m", "controller", "planner"}},
       {"sweeps", {"obstacle_layer", "floor_tolerance_m", "max_range_m", "pdbs_c0_m", "pdbs_c1"}},
       {"recorder", {"trajectory_rate_hz", "flush_period_ms"}},
       {"stream", {"max_frames_per_topic"}},
@@ -260,6 +260,8 @@ Config load_config(const std::filesystem::path& file) {
   reader.read_number("navigation", "inscribed_radius_m", navigation.inscribed_radius_m, 0.05, 2.0);
   reader.read_number("navigation", "avoidance_distance_m", navigation.avoidance_distance_m, 0.1,
                      4.0);
+  reader.read("navigation", "controller", navigation.controller);
+  reader.read("navigation", "planner", navigation.planner);
 
   SweepsSection& sweeps = config.sweeps;
   reader.read("sweeps", "obstacle_layer", sweeps.obstacle_layer);

@@ -75,6 +75,11 @@ struct NavigationSection {
   double max_linear_mps = 0.6;       // cruise cap while following a path (<= limits.max_linear_mps)
   double inscribed_radius_m = 0.42;  // R1: the 0.6 x 0.6 m footprint turning in place
   double avoidance_distance_m = 0.7;  // C4's d0
+  // The tracker a goal without "controller" gets (a car-like robot cannot use lyapunov's turns on
+  // the spot).
+  std::string controller = "lyapunov";
+  // The planner a goal without "planner" gets (a car-like robot needs hybrid_astar's curves).
+  std::string planner = "astar";
 };
 
 // 3D sweeps with the tilting laser and their IPaBD obstacle maps (docs/algorithms.md R1, P1, P2).

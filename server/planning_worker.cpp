@@ -4,14 +4,16 @@
 
 #include <stdexcept>
 #include "core/geometry/simple_polygon.h"
+#include "core/planning/turning_radius_fillet.h"
 
 #include <spdlog/spdlog.h>
 
 namespace mobot::server {
 
 PlanningWorker::PlanningWorker(planning::PlanningGridOptions grid_options,
-                               const PluginSet<planning::GlobalPlanner>& planners)
-    : builder_(grid_options), plugins_(planners) {}
+                               const PluginSet<planning::GlobalPlanner>& planners,
+                               double min_turning_radius_m)
+    : builder_(grid_options), min_turning_radius_m_(min_turning_radius_m), plugins_(planners) {}
 
 PlanningWorker::~PlanningWorker() { pool_.join(); }
 
@@ -125,7 +127,17 @@ PlanningWorker::Outcome PlanningWorker::plan_now(
   if (!global_planner.route_may_be_smoothed()) {
     return {std::nullopt, planning::Path(result.points_in_map)};
   }
-  return {std::nullopt, planning::Path(smoother_.smooth(*grid, result.points_in_map))};
+  if (min_turning_radius_m_ <= 0.0) {
+    return {std::nullopt, planning::Path(smoother_.smooth(*grid, result.points_in_map))};
+  }
+  // Round the shortcut polyline's corners first, then space its waypoints as the smoother does.
+  planning::TurningRadiusFilletOptions fillet;
+  fillet.min_turning_radius_m = min_turning_radius_m_;
+  fillet.max_cost = smoother_options_.max_shortcut_cost;
+  const std::vector<geometry::Point2D> rounded =
+      planning::fillet_corners(*grid, smoother_.shortcut(*grid, result.points_in_map), fillet);
+  return {std::nullopt, planning::Path(planning::PathSmoother::densify(
+                            rounded, smoother_options_.waypoint_spacing_m))};
 }
 
 }  // namespace mobot::server

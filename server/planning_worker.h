@@ -38,8 +38,10 @@ class PlanningWorker {
   using Done = std::function<void(Outcome)>;
 
   // `planners` must outlive the worker; each planner is made on first use, on the worker thread.
+  // A car-like base's plans get their corners rounded to `min_turning_radius_m` (0: none).
   PlanningWorker(planning::PlanningGridOptions grid_options,
-                 const PluginSet<planning::GlobalPlanner>& planners);
+                 const PluginSet<planning::GlobalPlanner>& planners,
+                 double min_turning_radius_m = 0.0);
   ~PlanningWorker();
   PlanningWorker(const PlanningWorker&) = delete;
   PlanningWorker& operator=(const PlanningWorker&) = delete;
@@ -78,7 +80,9 @@ class PlanningWorker {
                                std::span<const std::vector<geometry::Point2D>> zones) const;
 
   const planning::PlanningGridBuilder builder_;
-  const planning::PathSmoother smoother_;
+  const double min_turning_radius_m_;
+  const planning::PathSmootherOptions smoother_options_;
+  const planning::PathSmoother smoother_{smoother_options_};
   const PluginSet<planning::GlobalPlanner>& plugins_;
 
   mutable std::mutex mutex_;  // guards map_, layer_, generation_ and static_grid_

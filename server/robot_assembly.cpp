@@ -76,12 +76,13 @@ RobotAssembly::RobotAssembly(const Config& config, Bus& bus,
     : backend_(std::move(backend)),
       plugins_(configure_plugins(builtin_plugins(), config, backend_->geometry())),
       kinematics_(plugins_.kinematics.make(config.robot.kinematics)),
-      planning_(
-          std::make_unique<PlanningWorker>(costmap_options(config).global, plugins_.planners)),
+      planning_(std::make_unique<PlanningWorker>(costmap_options(config).global, plugins_.planners,
+                                                 kinematics_->min_turning_radius_m())),
       // IPaBD's cell (docs/algorithms.md P2): a third of the robot's width.
       sweep_layer_(backend_->geometry().footprint_width_m / 3.0) {
   runtime_ = std::make_unique<Runtime>(bus, build_pipeline(config, std::move(on_sweep)),
-                                       1.0 / config.robot.control_rate_hz, config.robot.kinematics,
+                                       1.0 / config.robot.control_rate_hz,
+                                       RobotDescription{config.robot.kinematics, backend_->geometry()},
                                        config.robot.realtime_priority);
   drivers::DriverSet& drivers = backend_->drivers();
   if (drivers.laser && drivers.laser->set_arrival_listener(ScanForwarder(bus, *runtime_))) {
@@ -110,6 +111,18 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   }
   navigate_ = &pipeline.add(
       std::make_unique<NavigateStage>(*planning_, plugins_.trackers, navigator_options(config)));
+  if (drivers.camera && drivers.camera_info) {
+    tracking_ = &pipeline.add(
+        std::make_unique<TrackingStage>(*drivers.camera_info, drivers.pan_tilt.get()));
+    if (drivers.pan_tilt) {
+      FollowOptions follow;
+      follow.base.max_linear_mps = config.robot.limits.max_linear_mps;
+      follow.base.max_angular_radps =
+          std::min(follow.base.max_angular_radps, config.robot.limits.max_angular_radps);
+      follow_ = &pipeline.add(
+          std::make_unique<FollowStage>(*drivers.camera_info, drivers.pan_tilt.get(), follow));
+    }
+  }
   if (auto ir = read_ir_safety_options(config.document); ir && drivers.ir) {
     pipeline.add(std::make_unique<IrSafetyStage>(*ir));
   }
@@ -125,7 +138,8 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   pipeline.add(std::make_unique<SmoothStage>(config.robot.limits));
   write_base_ = &pipeline.add(std::make_unique<WriteBaseStage>(*drivers.base, *kinematics_));
   if (sim) pipeline.add(std::make_unique<SimTruthStage>(*sim));
-  publish_ = &pipeline.add(std::make_unique<PublishStage>(config.robot.kinematics));
+  publish_ = &pipeline.add(std::make_unique<PublishStage>(
+      RobotDescription{config.robot.kinematics, backend_->geometry()}));
   return pipeline;
 }
 

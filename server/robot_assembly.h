@@ -12,12 +12,14 @@
 #include "server/plugins/plugins.h"
 #include "server/runtime.h"
 #include "server/stages/estimate_stage.h"
+#include "server/stages/follow_stage.h"
 #include "server/stages/mapping_stage.h"
 #include "server/stages/mux_stage.h"
 #include "server/stages/navigate_stage.h"
 #include "server/stages/publish_stage.h"
 #include "server/stages/safety_stage.h"
 #include "server/stages/sweep_stage.h"
+#include "server/stages/tracking_stage.h"
 #include "server/stages/write_base_stage.h"
 #include "server/sweep_layer.h"
 
@@ -47,6 +49,9 @@ class RobotAssembly {
   MuxStage& mux() { return *mux_; }
   WriteBaseStage& write_base() { return *write_base_; }
   const SafetyStage& safety() const { return *safety_; }
+  // Null on a robot without a camera (tracking) or without a pan/tilt head (follow).
+  TrackingStage* tracking() { return tracking_; }
+  FollowStage* follow() { return follow_; }
 
   // Everything that works on the active map, in the order a new map reaches it.
   std::vector<MapListener*> map_listeners();
@@ -67,6 +72,8 @@ class RobotAssembly {
   MuxStage* mux_ = nullptr;
   WriteBaseStage* write_base_ = nullptr;
   PublishStage* publish_ = nullptr;
+  TrackingStage* tracking_ = nullptr;
+  FollowStage* follow_ = nullptr;
   std::unique_ptr<Runtime> runtime_;
 };
 

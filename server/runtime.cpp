@@ -4,12 +4,12 @@
 
 namespace mobot::server {
 
-Runtime::Runtime(Bus& bus, Pipeline pipeline, double period_s, std::string kinematics,
+Runtime::Runtime(Bus& bus, Pipeline pipeline, double period_s, RobotDescription robot,
                  int realtime_priority)
     : bus_(bus),
       pipeline_(std::move(pipeline)),
       period_s_(period_s),
-      kinematics_(std::move(kinematics)),
+      robot_(std::move(robot)),
       context_(bus),
       loop_(
           period_s, [this] { tick(); }, realtime_priority) {
@@ -45,10 +45,11 @@ void Runtime::post(Command command) {
 
 void Runtime::publish_state() {
   auto state = std::make_shared<RuntimeState>();
-  state->robot = robot_snapshot(context_, kinematics_);
+  state->robot = robot_snapshot(context_, robot_);
   state->goals = context_.goals;
   state->sweep = context_.sweep;
   state->truth = context_.truth;
+  state->target = context_.target;
   state->distance_m = context_.distance_m;
   state_.store(std::move(state));
 }

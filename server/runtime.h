@@ -11,6 +11,7 @@
 #include "server/map_listener.h"
 #include "server/pipeline.h"
 #include "server/runtime_state.h"
+#include "server/stages/publish_stage.h"
 #include "server/tick_context.h"
 
 namespace mobot::server {
@@ -23,7 +24,7 @@ class Runtime {
   using Command = std::function<void(TickContext&)>;
 
   // `realtime_priority`: see ControlLoop.
-  Runtime(Bus& bus, Pipeline pipeline, double period_s, std::string kinematics,
+  Runtime(Bus& bus, Pipeline pipeline, double period_s, RobotDescription robot,
           int realtime_priority = 0);
   ~Runtime();
   Runtime(const Runtime&) = delete;
@@ -53,7 +54,7 @@ class Runtime {
   Bus& bus_;
   Pipeline pipeline_;
   const double period_s_;
-  const std::string kinematics_;
+  const RobotDescription robot_;
   TickContext context_;
   // The robot clock: advances one period per tick and never goes back (not even when the
   // simulator restarts), so the trajectory, the watchdog and the stream stamps stay monotonic.

@@ -19,6 +19,7 @@ struct RuntimeState {
   std::optional<SweepProgress> sweep;
   std::optional<api::SimTruth> truth;
   double distance_m = 0.0;
+  api::TrackingSnapshot target;
 };
 
 }  // namespace mobot::server

@@ -8,11 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "api/ports/sim_control_port.h"
 #include "core/geometry/pose2d.h"
 #include "core/msgs/compass_reading.h"
 #include "core/msgs/contact.h"
+#include "core/msgs/head_range.h"
 #include "core/msgs/image.h"
 #include "core/msgs/ir_ring.h"
 #include "core/msgs/landmark_bearing.h"
@@ -22,6 +24,7 @@
 #include "core/msgs/twist.h"
 #include "core/msgs/wheel_encoders.h"
 #include "core/navigation/goal.h"
+#include "core/vision/pan_tilt_head.h"
 #include "core/planning/planning_grid.h"
 #include "server/bus.h"
 
@@ -67,6 +70,7 @@ struct TickContext {
     compass.reset();
     bearings.reset();
     image.reset();
+    head_range.reset();
     contacts.clear();
     estop_button = false;
     device_faults.clear();
@@ -98,6 +102,8 @@ struct TickContext {
   std::optional<msgs::LandmarkBearings> bearings;
   std::vector<msgs::Contact> contacts;
   std::optional<msgs::Image> image;  // a camera frame (JPEG)
+  std::optional<msgs::HeadRange> head_range;  // the ranger on the camera head
+  std::optional<vision::PanTilt> head;        // where the camera head is (a pan/tilt camera)
   // The base's own emergency button is held down.
   bool estop_button = false;
   // Devices whose driver says they are not ok: name -> reason.
@@ -132,6 +138,14 @@ struct TickContext {
   std::shared_ptr<const std::vector<navigation::Goal>> goals =
       std::make_shared<const std::vector<navigation::Goal>>();
 
+  // tracking: the camera's target as of its last processed frame
+  api::TrackingSnapshot target;
+  // The head angles that put the target on the optical axis, from the head's angles when its
+  // frame was taken (so the head's own motion since does not feed back); a pan/tilt camera only.
+  std::optional<vision::PanTilt> target_head;
+  // follow: the base and the head keep the target at a set distance
+  bool following = false;
+
   // safety
   std::vector<SensorState> sensors;
   std::vector<std::string> faults;  // required sensors that are stale or failing
@@ -153,6 +167,9 @@ struct TickContext {
 
   // smooth: what the base is told this tick
   msgs::Twist command;
+  // A steered base's steering angle as last commanded (WriteBaseStage); nothing on a
+  // differential base.
+  std::optional<double> steering_rad;
 
   // publish (simulator only): the ground truth
   std::optional<api::SimTruth> truth;

@@ -9,6 +9,7 @@
 
 #include "api/ports/result.h"
 #include "core/geometry/pose2d.h"
+#include "core/kinematics/robot_geometry.h"
 #include "core/msgs/twist.h"
 #include "core/navigation/goal.h"
 
@@ -29,6 +30,8 @@ struct RobotSnapshot {
   std::array<double, 9> covariance{};
   bool localization_converged = false;
   std::string kinematics;
+  std::optional<double> steering_rad;  // a steered base's, as commanded
+  kinematics::RobotGeometry geometry;
   bool estop = false;
   std::map<std::string, SensorHealth> sensors;
 };
@@ -71,6 +74,9 @@ class ControlPort {
   // The names the runtime's registries know, for validating requests.
   virtual std::vector<std::string> planner_names() const = 0;
   virtual std::vector<std::string> controller_names() const = 0;
+  // The controller a goal that names none gets.
+  virtual std::string default_controller() const { return "lyapunov"; }
+  virtual std::string default_planner() const { return "astar"; }
 };
 
 }  // namespace mobot::api

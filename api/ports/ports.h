@@ -1,5 +1,6 @@
 #pragma once
 
+#include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "api/ports/localization_port.h"
 #include "api/ports/map_catalog_port.h"
@@ -23,6 +24,7 @@ struct Ports {
   TokenAdminPort& tokens;
   SweepsPort& sweeps;
   SystemPort& system;
+  CameraPort& camera;
   SimControlPort* sim = nullptr;
 };
 

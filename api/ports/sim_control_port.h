@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,6 +20,7 @@ struct SimTruth {
   double t_s = 0.0;
   geometry::Pose2D pose;
   int collisions = 0;
+  std::optional<double> steering_rad;  // a steered base's true steering angle
 };
 
 struct SimResetRequest {
@@ -32,6 +34,16 @@ struct SimObstacleRequest {
   double y_m = 0.0;
   double radius_m = 0.0;
   double height_m = 0.0;
+};
+
+// A coloured ball the simulated cameras see, moving along a path.
+struct SimTargetRequest {
+  std::array<int, 3> color{220, 30, 30};  // r, g, b 0..255
+  double radius_m = 0.1;
+  double height_m = 0.5;  // of its centre above the floor
+  std::vector<geometry::Point2D> path;
+  double speed_mps = 0.3;
+  bool loop = true;
 };
 
 // The simulator's controls; exists only with the sim backend. Thread-safe.
@@ -48,6 +60,10 @@ class SimControlPort {
   virtual void add_sim_obstacle(const SimObstacleRequest& request, Completion<int> done) = 0;
   // kNotFound unknown_obstacle.
   virtual void remove_sim_obstacle(int id, Completion<Done> done) = 0;
+  // The new target's id; kInvalid invalid_target.
+  virtual void add_sim_target(const SimTargetRequest& request, Completion<int> done) = 0;
+  // kNotFound unknown_target.
+  virtual void remove_sim_target(int id, Completion<Done> done) = 0;
   // Moves the simulated robot without telling localization. kInvalid pose_in_obstacle.
   virtual void kidnap(const geometry::Pose2D& pose, Completion<Done> done) = 0;
 };

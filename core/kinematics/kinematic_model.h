@@ -21,6 +21,10 @@ class KinematicModel {
   virtual msgs::WheelCommand to_wheels(const msgs::Twist& body) const = 0;
   // Forward kinematics: the body velocity the wheel command yields.
   virtual msgs::Twist to_body(const msgs::WheelCommand& wheels) const = 0;
+  // Whether the base steers a wheel (its WheelCommand's steering_rad means something).
+  virtual bool steered() const { return false; }
+  // The tightest turn the base can drive; 0 for one that turns on the spot.
+  virtual double min_turning_radius_m() const { return 0.0; }
 };
 
 }  // namespace mobot::kinematics

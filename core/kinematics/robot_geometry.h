@@ -10,6 +10,11 @@ struct RobotGeometry {
   double footprint_length_m = 0.0;
   double footprint_width_m = 0.0;
   double height_m = 0.0;
+  // How far the footprint's centre lies ahead of the base origin (a tricycle's origin is its
+  // rear-axle centre, its body reaches forward over the front wheel).
+  double footprint_offset_m = 0.0;
+  // A steered base's distance from the rear axle to the front wheel; 0 for a differential base.
+  double wheelbase_m = 0.0;
 };
 
 }  // namespace mobot::kinematics

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,9 @@ struct LandmarkBearing {
   std::string name;
   geometry::Point2D landmark_in_map;
   double bearing_rad = 0.0;
+  // The distance to the landmark's centre, from a sensor that measures one (the tricycles' beacon
+  // scanner, docs/algorithms.md E3); the omnidirectional camera gives none.
+  std::optional<double> range_m;
 };
 
 // Every landmark the camera saw in one image, in no particular order of importance.

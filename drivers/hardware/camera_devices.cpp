@@ -35,7 +35,18 @@ void make_opencv_camera(DeviceReader& entry, HardwareAssembly& assembly) {
   entry.integer("width", options.width_px, 0, 16384);
   entry.integer("height", options.height_px, 0, 16384);
   entry.integer("jpeg_quality", options.jpeg_quality, 1, 100);
+  // A fixed camera looking ahead; tracking needs the frame size the driver delivers (frames are
+  // scaled to width x height, so with both given it is known before the first frame).
+  CameraInfo info;
+  info.kind = "fixed";
+  info.rate_hz = options.rate_hz;
+  double fov_deg = 60.0;
+  entry.number("horizontal_fov_deg", fov_deg, 10.0, 170.0);
   entry.done();
+  // Without both sizes the frames keep the source's, unknown until the first: the camera
+  // streams, but boxes for tracking need the size (GET /camera reports 0 x 0 then).
+  info.pinhole = {options.width_px, options.height_px, fov_deg * 3.14159265358979323846 / 180.0};
+  assembly.drivers.camera_info = info;
 
   auto device = std::make_unique<CameraDevice>(options);
   OpenCvCamera& camera = device->camera();

@@ -22,10 +22,11 @@ std::vector<float> wall_distances(const mapping::OccupancyGrid& floor) {
 }  // namespace
 
 BodyCollider::BodyCollider(const World& world, double footprint_length_m, double footprint_width_m,
-                           double height_m)
+                           double height_m, double offset_m)
     : floor_(world.floor),
       half_length_m_(footprint_length_m / 2.0),
       half_width_m_(footprint_width_m / 2.0),
+      offset_m_(offset_m),
       wall_distance_cells_(wall_distances(world.floor)),
       half_diagonal_m_(std::hypot(half_length_m_, half_width_m_)) {
   for (const Box3D& box : world.boxes) {
@@ -34,7 +35,7 @@ BodyCollider::BodyCollider(const World& world, double footprint_length_m, double
 }
 
 OrientedRect BodyCollider::footprint_at(const geometry::Pose2D& pose) const {
-  return {pose, half_length_m_, half_width_m_};
+  return {geometry::compose(pose, {offset_m_, 0.0, 0.0}), half_length_m_, half_width_m_};
 }
 
 std::optional<std::string> BodyCollider::contact(const geometry::Pose2D& pose) const {

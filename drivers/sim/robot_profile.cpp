@@ -33,9 +33,12 @@ std::vector<geometry::Pose2D> dashgo_ir_ring() {
   return ring;
 }
 
-constexpr std::array<NamedProfile, 2> kProfiles{{
+constexpr std::array<NamedProfile, 5> kProfiles{{
     {"r1", r1_profile},
     {"dashgo_d1", dashgo_d1_profile},
+    {"tricycle_t1", [] { return tricycle_profile(kinematics::TricycleType::kType1); }},
+    {"tricycle_t2", [] { return tricycle_profile(kinematics::TricycleType::kType2); }},
+    {"camera_robot", camera_robot_profile},
 }};
 
 }  // namespace
@@ -72,7 +75,9 @@ kinematics::RobotGeometry geometry_of(const RobotProfile& profile) {
           static_cast<int>(profile.ticks_per_wheel_rev),
           profile.footprint_length_m,
           profile.footprint_width_m,
-          profile.height_m};
+          profile.height_m,
+          profile.footprint_offset_m,
+          profile.steering ? profile.steering->wheelbase_m : 0.0};
 }
 
 RobotProfile r1_profile() {
@@ -182,6 +187,75 @@ RobotProfile dashgo_d1_profile() {
 
   p.max_linear_mps = 0.5;
   p.max_angular_radps = 0.7;
+  return p;
+}
+
+RobotProfile tricycle_profile(kinematics::TricycleType type) {
+  RobotProfile p;
+  // R3 at the source's scale G = 9: wheelbase sqrt(3.4) m, a small utility vehicle. The rear axle
+  // (the reference point) carries two 0.25 m wheels 1.0 m apart with 2048-line encoders in
+  // quadrature; on type 1 they roll freely, on type 2 they drive through a differential.
+  p.wheel_radius_m = 0.25;
+  p.track_m = 1.0;
+  p.ticks_per_wheel_rev = 2048 * 4;
+  SteeringProfile steering;
+  steering.type = type;
+  // A steering servo needs about 0.8 s from lock to lock; its zero sits 0.5 deg off (chosen: a
+  // mechanic's alignment, well inside the 5 deg that breaks open-loop tracking in C3).
+  steering.steer_rate_radps = 2.0;
+  steering.steer_bias_rad = degrees(0.5);
+  p.steering = steering;
+
+  // From 0.4 m behind the rear axle to 0.4 m past the front wheel, 1.2 m wide, 1.0 m tall.
+  p.footprint_length_m = steering.wheelbase_m + 0.8;
+  p.footprint_width_m = 1.2;
+  p.footprint_offset_m = steering.wheelbase_m / 2.0;
+  p.height_m = 1.0;
+
+  // A 270 deg outdoor laser scanner on the front bumper, 0.5 deg steps, 30 m.
+  p.laser_height_m = 0.5;
+  p.laser_in_base = {steering.wheelbase_m + 0.35, 0.0, 0.0};
+  p.laser_fov_rad = degrees(270.0);
+  p.laser_step_rad = degrees(0.5);
+  p.laser_range_min_m = 0.1;
+  p.laser_range_max_m = 30.0;
+  p.laser_range_sigma_m = 0.02;
+  p.has_tilt_laser = false;
+
+  // No sonar ring: the laser covers the front; the profile still names a range for the validator.
+  p.sonar_height_m = 0.5;
+  p.sonar_range_max_m = 4.0;
+
+  // The landmark scanner measures range and bearing to the world's beacons with E3's sigmas.
+  p.has_compass = false;
+  p.has_omni_camera = true;
+  p.camera_range_m = 25.0;
+  p.bearing_sigma_rad = degrees(2.0);
+  p.landmark_range_sigma_m = 0.1;
+
+  // A wheel-speed loop as good as R1's, a tyre scale error of 0.5 % and a slight left pull.
+  p.wheel_speed_noise_fraction = 0.02;
+  p.wheel_speed_noise_correlation_s = 0.5;
+  set_odometry_errors(p, {0.005, 0.002, 0.0});
+
+  // R3's limits: 1.77 m/s and 0.3 rad/s; the body turns no faster than its steering allows.
+  p.max_linear_mps = 1.77;
+  p.max_angular_radps = 0.3;
+  return p;
+}
+
+RobotProfile camera_robot_profile() {
+  // R4 gives the chain, not the base: the Dashgo's drive, lidar and sonars carry the head.
+  RobotProfile p = dashgo_d1_profile();
+  p.ir_sensors_in_base.clear();
+  PanTiltCameraProfile camera;
+  camera.head.l0_m = 0.45;  // the head's column stands above the lidar
+  camera.head.mount_x_m = 0.05;
+  p.pan_tilt_camera = camera;
+  p.height_m = camera.head.l0_m + camera.head.l1_m + 0.1;
+  // Fast enough to keep up with a person walking (R4 follows people): 1 m/s, 1.5 rad/s.
+  p.max_linear_mps = 1.0;
+  p.max_angular_radps = 1.5;
   return p;
 }
 

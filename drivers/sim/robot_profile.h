@@ -9,10 +9,49 @@
 
 #include "core/geometry/pose2d.h"
 #include "core/kinematics/robot_geometry.h"
+#include "core/kinematics/tricycle.h"
 #include "core/perception/tilt_sweep.h"
+#include "core/vision/camera_pose.h"
+#include "core/vision/omni_camera_model.h"
+#include "core/vision/pan_tilt_head.h"
+#include "drivers/sim/camera_noise.h"
 #include "drivers/sim/sharp_ir_adc.h"
 
 namespace mobot::sim {
+
+// A steered base (docs/algorithms.md R3): the front wheel wheelbase_m ahead of the rear axle (the
+// base origin, whose two wheels carry the encoders), turned by a servo that slews at a finite rate
+// and whose zero is off by a bias calibration has not found.
+struct SteeringProfile {
+  kinematics::TricycleType type = kinematics::TricycleType::kType2;
+  double wheelbase_m = 1.84390889145857731;
+  double max_steer_rad = 0.785398163397448310;
+  double steer_rate_radps = 1.0;
+  double steer_bias_rad = 0.0;
+};
+
+// A pinhole camera on R4's pan/tilt head with the ultrasonic ranger that looks where it looks.
+struct PanTiltCameraProfile {
+  vision::PanTiltHeadOptions head;
+  vision::PinholeCamera camera;  // 640 x 480, 60 deg
+  double rate_hz = 15.0;
+  int jpeg_quality = 80;
+  CameraNoiseOptions noise;
+  // A Maxbotix-class ultrasonic ranger: 15 deg cone, 6 m, 1 % of the range.
+  double range_cone_rad = 0.2617993877991494;
+  double range_max_m = 6.0;
+  double range_noise_fraction = 0.01;
+  double range_rate_hz = 10.0;
+};
+
+// R1's omnidirectional camera rendered as pixels (E2 measurement 3 from the image).
+struct OmniImageProfile {
+  vision::OmniCameraModel model;
+  double height_m = 1.0;  // the mirror's single viewpoint above the floor
+  double rate_hz = 10.0;
+  int jpeg_quality = 85;
+  CameraNoiseOptions noise;
+};
 
 // Everything the simulator needs to know about one robot: geometry, sensors, their noise, and the
 // systematic errors calibration is expected to find. docs/algorithms.md R1 and R2 give the numbers.
@@ -28,6 +67,10 @@ struct RobotProfile {
   double footprint_length_m = 0.0;
   double footprint_width_m = 0.0;
   double height_m = 0.0;
+  // How far the body's centre lies ahead of the base origin.
+  double footprint_offset_m = 0.0;
+  // Present on a steered base; a differential base drives its two wheels.
+  std::optional<SteeringProfile> steering;
 
   double laser_height_m = 0.0;
   geometry::Pose2D laser_in_base;
@@ -72,6 +115,12 @@ struct RobotProfile {
   // of sight give a bearing with this gaussian noise (the measured 2.992e-4 rad^2).
   double camera_range_m = 8.0;
   double bearing_sigma_rad = 0.017297398648;  // sqrt(2.992e-4)
+  // A beacon scanner (the tricycles, E3) also measures each landmark's range with this gaussian
+  // noise; 0: bearings only.
+  double landmark_range_sigma_m = 0.0;
+  // Cameras whose images are rendered from the world; absent: none.
+  std::optional<PanTiltCameraProfile> pan_tilt_camera;
+  std::optional<OmniImageProfile> omni_image;
 
   // Systematic error: true wheel radii and track as multiples of the nominal ones.
   double left_wheel_scale = 1.0;
@@ -122,6 +171,12 @@ kinematics::RobotGeometry geometry_of(const RobotProfile& profile);
 RobotProfile r1_profile();
 // The Dashgo D1 of docs/algorithms.md R2.
 RobotProfile dashgo_d1_profile();
+// The tricycles of docs/algorithms.md R3 (type 1: the front wheel steers and drives; type 2: it
+// steers, the rear wheels drive) with a laser and a landmark beacon scanner (E3).
+RobotProfile tricycle_profile(kinematics::TricycleType type);
+// The camera robot of docs/algorithms.md R4: a differential base (the Dashgo's) with a camera on a
+// pan/tilt head and an ultrasonic ranger beside the lens.
+RobotProfile camera_robot_profile();
 
 // The robots the simulator knows, by the name robot.profile gives: one entry each.
 struct NamedProfile {

@@ -1,5 +1,7 @@
 #include "drivers/sim/sim_backend.h"
 
+#include "drivers/sim/camera_renderer.h"
+
 #include <stdexcept>
 
 #include "core/safety/sharp_ir_curve.h"
@@ -84,6 +86,83 @@ SimBackend::SimBackend(World world, RobotProfile profile, const drivers::Backend
         [this] { return simulator_->read_landmark_bearings(); });
   }
   if (profile_.has_tilt_laser) drivers_.tilt = std::make_unique<SimTiltLaser>(*this, seed_);
+  make_cameras();
+}
+
+void SimBackend::make_cameras() {
+  if (!profile_.pan_tilt_camera && !profile_.omni_image) return;
+  scene_ = std::make_shared<const StaticScene>(
+      StaticScene{simulator_->world(), RayCaster(simulator_->world().floor)});
+  // A stream of its own, seeded apart from the Simulator's, so cameras never change how it runs.
+  camera_rng_ = std::mt19937_64(seed_ ^ 0x63616d657261ULL);
+  if (const auto& camera = profile_.pan_tilt_camera) {
+    camera_noise_.emplace(camera->noise);
+    camera_noise_->start(camera_rng_);
+    auto head = std::make_unique<SimPanTilt>(camera->head);
+    pan_tilt_ = head.get();
+    drivers_.pan_tilt = std::move(head);
+    drivers_.camera = std::make_unique<SimCamera>(camera->rate_hz, camera->jpeg_quality,
+                                                  [this] { return pan_tilt_frame(); });
+    drivers::CameraInfo info;
+    info.kind = "pan_tilt";
+    info.pinhole = camera->camera;
+    info.rate_hz = camera->rate_hz;
+    info.height_m = vision::PanTiltHead(camera->head).lens_in_base({}).z_m;
+    info.range_cone_rad = camera->range_cone_rad;
+    drivers_.camera_info = info;
+    drivers_.head_range = std::make_unique<SimSensor<msgs::HeadRange>>(
+        "head_range", camera->range_rate_hz,
+        [this] { return simulator_->read_head_range(pan_tilt_->current()); });
+    return;
+  }
+  const OmniImageProfile& omni = *profile_.omni_image;
+  camera_noise_.emplace(omni.noise);
+  camera_noise_->start(camera_rng_);
+  drivers_.camera = std::make_unique<SimCamera>(omni.rate_hz, omni.jpeg_quality,
+                                                [this] { return omni_frame(); });
+  drivers::CameraInfo info;
+  info.kind = "omni";
+  info.omni = omni.model;
+  info.rate_hz = omni.rate_hz;
+  info.height_m = omni.height_m;
+  drivers_.camera_info = info;
+}
+
+void SimBackend::advance(double dt_s) {
+  simulator_->step(dt_s);
+  if (pan_tilt_) pan_tilt_->advance(dt_s);
+}
+
+std::uint64_t SimBackend::next_noise(double now_s) {
+  camera_noise_->advance(std::max(0.0, now_s - noise_time_s_), camera_rng_);
+  noise_time_s_ = now_s;
+  return camera_rng_();
+}
+
+SimCamera::RenderJob SimBackend::pan_tilt_frame() {
+  const PanTiltCameraProfile& camera = *profile_.pan_tilt_camera;
+  const vision::CameraPose pose = vision::PanTiltHead(camera.head)
+                                      .camera_pose(simulator_->true_pose(), pan_tilt_->current());
+  const std::uint64_t seed = next_noise(simulator_->time_s());
+  return [scene = scene_, obstacles = simulator_->obstacle_cylinders(),
+          targets = simulator_->target_spheres(), pose, pinhole = camera.camera,
+          noise = *camera_noise_, seed] {
+    std::mt19937_64 rng(seed);
+    return render_perspective({scene->world, scene->walls, obstacles, targets, {}}, pose, pinhole,
+                              noise, rng);
+  };
+}
+
+SimCamera::RenderJob SimBackend::omni_frame() {
+  const OmniImageProfile& omni = *profile_.omni_image;
+  const std::uint64_t seed = next_noise(simulator_->time_s());
+  return [scene = scene_, obstacles = simulator_->obstacle_cylinders(),
+          targets = simulator_->target_spheres(), base = simulator_->true_pose(),
+          height_m = omni.height_m, model = omni.model, noise = *camera_noise_, seed] {
+    std::mt19937_64 rng(seed);
+    return render_omni({scene->world, scene->walls, obstacles, targets, {}}, base, height_m, model,
+                       noise, rng);
+  };
 }
 
 mapping::OccupancyGrid SimBackend::surveyed_map() const {
@@ -118,9 +197,15 @@ void SimBackend::reset(const drivers::SimWorldChoice* world, std::optional<geome
     const geometry::Pose2D start = pose.value_or(world->world->start);
     simulator_ = std::make_unique<Simulator>(*world->world, profile_, seed_);
     simulator_->reset(start, seed_);
+    if (scene_) {
+      scene_ = std::make_shared<const StaticScene>(
+          StaticScene{simulator_->world(), RayCaster(simulator_->world().floor)});
+    }
   } else {
     simulator_->reset(pose.value_or(simulator_->world().start), seed_);
   }
+  if (pan_tilt_) pan_tilt_->reset();
+  noise_time_s_ = 0.0;
 }
 
 int SimBackend::add_obstacle(double x_m, double y_m, double radius_m, double height_m) {

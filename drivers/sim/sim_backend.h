@@ -5,6 +5,8 @@
 
 #include "drivers/backend.h"
 #include "drivers/backend_factory.h"
+#include "drivers/sim/sim_camera.h"
+#include "drivers/sim/sim_pan_tilt.h"
 #include "drivers/sim/simulator.h"
 
 namespace mobot::sim {
@@ -19,12 +21,16 @@ class SimBackend final : public drivers::Backend, public drivers::SimControl {
   std::string_view name() const override { return "sim"; }
   const kinematics::RobotGeometry& geometry() const override { return geometry_; }
   drivers::DriverSet& drivers() override { return drivers_; }
-  void advance(double dt_s) override { simulator_->step(dt_s); }
+  void advance(double dt_s) override;
   drivers::SimControl* sim_control() override { return this; }
 
   geometry::Pose2D true_pose() const override { return simulator_->true_pose(); }
   void teleport(const geometry::Pose2D& pose) override { simulator_->teleport(pose); }
   int collision_count() const override { return simulator_->collision_count(); }
+  std::optional<double> true_steering_rad() const override {
+    if (!profile_.steering) return std::nullopt;
+    return simulator_->steering_rad();
+  }
   std::string world_name() const override { return simulator_->world().name; }
   mapping::OccupancyGrid surveyed_map() const override;
   std::vector<drivers::SimWorldEntry> worlds() const override;
@@ -36,6 +42,8 @@ class SimBackend final : public drivers::Backend, public drivers::SimControl {
   std::uint64_t seed() const override { return seed_; }
   int add_obstacle(double x_m, double y_m, double radius_m, double height_m) override;
   bool remove_obstacle(int id) override { return simulator_->remove_obstacle(id); }
+  int add_target(const MovingTargetSpec& spec) override { return simulator_->add_target(spec); }
+  bool remove_target(int id) override { return simulator_->remove_target(id); }
 
   Simulator& simulator() { return *simulator_; }
   const RobotProfile& profile() const { return profile_; }
@@ -45,7 +53,25 @@ class SimBackend final : public drivers::Backend, public drivers::SimControl {
   const kinematics::RobotGeometry geometry_;
   const std::filesystem::path worlds_dir_;
   std::uint64_t seed_;
+  // What the cameras see of the static world, shared with the frames being rendered (they may
+  // outlive a reset that replaces the Simulator).
+  struct StaticScene {
+    World world;
+    RayCaster walls;
+  };
+  void make_cameras();
+  // A frame's render job: a copy of the dynamic scene and the camera's pose now.
+  SimCamera::RenderJob pan_tilt_frame();
+  SimCamera::RenderJob omni_frame();
+  // The camera noise's gain drift up to now and the seed for this frame's pixel noise.
+  std::uint64_t next_noise(double now_s);
+
   std::unique_ptr<Simulator> simulator_;
+  std::shared_ptr<const StaticScene> scene_;
+  SimPanTilt* pan_tilt_ = nullptr;  // owned by drivers_
+  std::optional<CameraNoise> camera_noise_;
+  std::mt19937_64 camera_rng_;
+  double noise_time_s_ = 0.0;
   drivers::DriverSet drivers_;
 };
 

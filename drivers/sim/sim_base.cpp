@@ -9,6 +9,10 @@ void SimBase::set_wheel_command(const msgs::WheelCommand& command) {
   // The motor controllers are given the nominal geometry's wheel speeds; how far the true wheels
   // differ from it is the Simulator's systematic error, as on the real base.
   const RobotProfile& profile = backend_.profile();
+  if (profile.steering) {
+    backend_.simulator().set_steered_command({command.drive_mps, command.steering_rad});
+    return;
+  }
   backend_.simulator().set_command(kinematics::twist_from_wheels(
       {command.left_radps * profile.wheel_radius_m, command.right_radps * profile.wheel_radius_m},
       profile.track_m));

@@ -34,7 +34,8 @@ enum class Stream : std::uint32_t {
   kCamera,
   kTilt,
   kSlip,
-  kIr
+  kIr,
+  kHeadRange
 };
 
 std::mt19937_64 random_stream(std::uint64_t seed, Stream stream) {
@@ -124,7 +125,12 @@ Simulator::Simulator(World world, RobotProfile profile, std::uint64_t seed)
               ? nullptr
               : plane_at(world_, profile_.ir_height_m, sonar_plane_, profile_.sonar_height_m)),
       walls_(world_.floor),
-      body_(world_, profile_.footprint_length_m, profile_.footprint_width_m, profile_.height_m),
+      head_plane_(profile_.pan_tilt_camera
+                      ? plane_at(world_, profile_.pan_tilt_camera->head.l0_m +
+                                             profile_.pan_tilt_camera->head.l1_m)
+                      : nullptr),
+      body_(world_, profile_.footprint_length_m, profile_.footprint_width_m, profile_.height_m,
+            profile_.footprint_offset_m),
       slip_(slip_options(profile_)),
       ir_adc_(unseeded_ir_adc(profile_)) {
   reset(world_.start, seed);
@@ -134,12 +140,16 @@ void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
   pose_ = {pose.x, pose.y, geometry::wrap_angle(pose.theta)};
   time_s_ = 0.0;
   command_ = {};
+  steered_command_ = {};
+  steering_rad_ = 0.0;
   wheel_angles_ = {};
   collisions_.clear();
   collision_count_ = 0;
   in_contact_ = false;
   obstacles_.clear();
   next_obstacle_id_ = 1;
+  targets_.clear();
+  next_target_id_ = 1;
   drive_rng_ = random_stream(seed, Stream::kDrive);
   laser_rng_ = random_stream(seed, Stream::kLaser);
   sonar_rng_ = random_stream(seed, Stream::kSonar);
@@ -148,6 +158,7 @@ void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
   tilt_rng_ = random_stream(seed, Stream::kTilt);
   slip_rng_ = random_stream(seed, Stream::kSlip);
   ir_rng_ = random_stream(seed, Stream::kIr);
+  head_range_rng_ = random_stream(seed, Stream::kHeadRange);
   // Start the PID error in its stationary distribution.
   left_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
   right_speed_error_ = gaussian(drive_rng_, profile_.wheel_speed_noise_fraction);
@@ -157,7 +168,57 @@ void Simulator::reset(const geometry::Pose2D& pose, std::uint64_t seed) {
 }
 
 void Simulator::set_command(const msgs::Twist& command) {
-  command_ = clamp_command(command, profile_);
+  if (!profile_.steering) {
+    command_ = clamp_command(command, profile_);
+    return;
+  }
+  const msgs::Twist clamped = clamp_command(command, profile_);
+  kinematics::TricycleInput input;
+  if (std::abs(clamped.linear_mps) > 1e-9) {
+    input.steer_rad =
+        std::atan(profile_.steering->wheelbase_m * clamped.angular_radps / clamped.linear_mps);
+    input.drive_mps = profile_.steering->type == kinematics::TricycleType::kType1
+                          ? clamped.linear_mps / std::cos(input.steer_rad)
+                          : clamped.linear_mps;
+  }
+  set_steered_command(input);
+}
+
+void Simulator::set_steered_command(const kinematics::TricycleInput& input) {
+  if (!profile_.steering) throw std::logic_error("a differential base has no steering");
+  if (!std::isfinite(input.drive_mps) || !std::isfinite(input.steer_rad)) {
+    steered_command_ = {};
+    return;
+  }
+  const double max_steer_rad = profile_.steering->max_steer_rad;
+  steered_command_ = {std::clamp(input.drive_mps, -profile_.max_linear_mps, profile_.max_linear_mps),
+                      std::clamp(input.steer_rad, -max_steer_rad, max_steer_rad)};
+}
+
+msgs::Twist Simulator::command() const {
+  if (!profile_.steering) return command_;
+  return kinematics::tricycle_body_velocity({profile_.steering->type, profile_.steering->wheelbase_m},
+                                            {steered_command_.drive_mps, steering_rad_});
+}
+
+msgs::Twist Simulator::drive_twist(double dt_s) {
+  if (!profile_.steering) return command_;
+  const SteeringProfile& steering = *profile_.steering;
+  // The servo holds the angle it is told plus its zero error, within the mechanical stop.
+  const double target_rad = std::clamp(steered_command_.steer_rad + steering.steer_bias_rad,
+                                       -steering.max_steer_rad, steering.max_steer_rad);
+  const double max_change_rad = steering.steer_rate_radps * dt_s;
+  steering_rad_ += std::clamp(target_rad - steering_rad_, -max_change_rad, max_change_rad);
+  // The drive controller holds the turn rate within the base's limit for the angle the wheel is
+  // really at (a steering still turning toward a tighter command would otherwise overshoot it).
+  const kinematics::TricycleGeometry geometry{steering.type, steering.wheelbase_m};
+  kinematics::TricycleInput drive{steered_command_.drive_mps, steering_rad_};
+  const double turn_per_drive =
+      std::abs(kinematics::tricycle_body_velocity(geometry, {1.0, steering_rad_}).angular_radps);
+  if (turn_per_drive * std::abs(drive.drive_mps) > profile_.max_angular_radps) {
+    drive.drive_mps = std::copysign(profile_.max_angular_radps / turn_per_drive, drive.drive_mps);
+  }
+  return kinematics::tricycle_body_velocity(geometry, drive);
 }
 
 void Simulator::step(double dt_s) {
@@ -167,12 +228,16 @@ void Simulator::step(double dt_s) {
   if (dt_s == 0.0) return;
   update_wheel_noise(dt_s);
   // The motor controllers turn each wheel at the speed the nominal geometry asks for, give or take
-  // the PID error; the true radii then decide how far the robot rolls.
+  // the PID error; the true radii then decide how far the robot rolls. A steered base's rear
+  // wheels turn as its steering makes the body move, with the same errors.
   const kinematics::WheelSpeeds wheel_mps =
-      kinematics::wheels_from_twist(command_, profile_.track_m);
+      kinematics::wheels_from_twist(drive_twist(dt_s), profile_.track_m);
+  // A steered base has one drive motor: its speed error moves both rear wheels alike (their
+  // difference is the steering's).
+  const double right_error = profile_.steering ? left_speed_error_ : right_speed_error_;
   const WheelAngles rotation{
       wheel_mps.left_mps / profile_.wheel_radius_m * (1.0 + left_speed_error_) * dt_s,
-      wheel_mps.right_mps / profile_.wheel_radius_m * (1.0 + right_speed_error_) * dt_s};
+      wheel_mps.right_mps / profile_.wheel_radius_m * (1.0 + right_error) * dt_s};
   // The floor: what the wheels turn is what the encoders count, what they roll moves the base.
   WheelAngles ground = rotation;
   if (slip_.enabled()) {
@@ -183,7 +248,8 @@ void Simulator::step(double dt_s) {
   }
 
   const double half_diagonal_m =
-      std::hypot(profile_.footprint_length_m, profile_.footprint_width_m) / 2.0;
+      std::hypot(profile_.footprint_length_m / 2.0 + std::abs(profile_.footprint_offset_m),
+                 profile_.footprint_width_m / 2.0);
   const geometry::Pose2D full = pose_after(pose_, ground, 1.0);
   const double travel_m =
       std::hypot(full.x - pose_.x, full.y - pose_.y) +
@@ -252,6 +318,7 @@ bool Simulator::drive_substep(const WheelAngles& rotation, const WheelAngles& gr
 
 void Simulator::record_collision(const std::string& with) {
   command_ = {};
+  steered_command_ = {};
   if (!in_contact_) {
     collisions_.push_back({with, pose_});
     ++collision_count_;
@@ -468,11 +535,15 @@ msgs::LandmarkBearings Simulator::read_landmark_bearings() {
     // Blocked only by something in front of the cylinder's near surface.
     const double clear_m = std::max(0.0, distance_m - kLandmarkRadius_m);
     if (clear_m > 0.0 && nearest_in_plane(camera, direction_rad, clear_m)) continue;
-    image.bearings.push_back(
-        {landmark.name,
-         {landmark.x_m, landmark.y_m},
-         geometry::wrap_angle(direction_rad - pose_.theta +
-                              gaussian(camera_rng_, profile_.bearing_sigma_rad))});
+    msgs::LandmarkBearing seen{landmark.name,
+                               {landmark.x_m, landmark.y_m},
+                               geometry::wrap_angle(direction_rad - pose_.theta +
+                                                    gaussian(camera_rng_, profile_.bearing_sigma_rad)),
+                               std::nullopt};
+    if (profile_.landmark_range_sigma_m > 0.0) {
+      seen.range_m = distance_m + gaussian(camera_rng_, profile_.landmark_range_sigma_m);
+    }
+    image.bearings.push_back(std::move(seen));
   }
   return image;
 }
@@ -493,6 +564,68 @@ bool Simulator::remove_obstacle(int id) {
   if (removed == obstacles_.end()) return false;
   obstacles_.erase(removed, obstacles_.end());
   return true;
+}
+
+int Simulator::add_target(const MovingTargetSpec& spec) {
+  targets_.push_back({next_target_id_, MovingTarget(spec), time_s_});
+  return next_target_id_++;
+}
+
+bool Simulator::remove_target(int id) {
+  const auto removed = std::remove_if(targets_.begin(), targets_.end(),
+                                      [id](const Target& t) { return t.id == id; });
+  if (removed == targets_.end()) return false;
+  targets_.erase(removed, targets_.end());
+  return true;
+}
+
+std::vector<SceneSphere> Simulator::target_spheres() const {
+  std::vector<SceneSphere> spheres;
+  spheres.reserve(targets_.size());
+  for (const Target& t : targets_) spheres.push_back(target_sphere(t.target, time_s_ - t.added_at_s));
+  return spheres;
+}
+
+std::vector<SceneCylinder> Simulator::obstacle_cylinders() const {
+  std::vector<SceneCylinder> cylinders;
+  cylinders.reserve(obstacles_.size());
+  for (const Obstacle& o : obstacles_) cylinders.push_back({o.x_m, o.y_m, o.radius_m, o.height_m});
+  return cylinders;
+}
+
+msgs::HeadRange Simulator::read_head_range(const vision::PanTilt& joints) {
+  msgs::HeadRange reading;
+  reading.stamp_s = time_s_;
+  if (!profile_.pan_tilt_camera || !head_plane_) return reading;
+  const PanTiltCameraProfile& camera = *profile_.pan_tilt_camera;
+  reading.range_max_m = camera.range_max_m;
+  const vision::LensPosition lens = vision::PanTiltHead(camera.head).lens_in_base(joints);
+  const geometry::Point2D from = geometry::transform_point(pose_, {lens.x_m, lens.y_m});
+  const double centre_rad = pose_.theta + joints.pan_rad;
+  std::optional<double> nearest;
+  constexpr int kRays = 5;
+  for (int i = 0; i < kRays; ++i) {
+    const double angle_rad =
+        centre_rad + camera.range_cone_rad * (static_cast<double>(i) / (kRays - 1) - 0.5);
+    std::optional<double> hit = nearest_at(*head_plane_, lens.z_m, from, angle_rad,
+                                           camera.range_max_m);
+    for (const SceneSphere& sphere : target_spheres()) {
+      const double dz_m = sphere.z_m - lens.z_m;
+      if (std::abs(dz_m) >= sphere.radius_m) continue;
+      const double cut_radius_m = std::sqrt(sphere.radius_m * sphere.radius_m - dz_m * dz_m);
+      const std::optional<double> on_target =
+          cast_to_circle(from, angle_rad, {sphere.x_m, sphere.y_m}, cut_radius_m);
+      if (on_target && *on_target <= camera.range_max_m && (!hit || *on_target < *hit)) {
+        hit = on_target;
+      }
+    }
+    if (hit && (!nearest || *hit < *nearest)) nearest = hit;
+  }
+  if (nearest) {
+    reading.range_m = std::max(0.0, *nearest + gaussian(head_range_rng_,
+                                                        camera.range_noise_fraction * *nearest));
+  }
+  return reading;
 }
 
 }  // namespace mobot::sim

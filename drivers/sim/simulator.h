@@ -12,11 +12,14 @@
 #include "core/msgs/compass_reading.h"
 #include "core/msgs/landmark_bearing.h"
 #include "core/msgs/laser_scan.h"
+#include "core/msgs/head_range.h"
 #include "core/msgs/sonar_ring.h"
 #include "core/msgs/tilt_scan.h"
 #include "core/msgs/twist.h"
 #include "core/msgs/wheel_encoders.h"
 #include "drivers/sim/body_collider.h"
+#include "drivers/sim/camera_scene.h"
+#include "drivers/sim/moving_target.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/robot_profile.h"
 #include "drivers/sim/sharp_ir_adc.h"
@@ -57,9 +60,16 @@ class Simulator {
   void step(double dt_s);
   double time_s() const { return time_s_; }
 
+  // A differential base: the body velocity its wheel controllers are asked for. A steered base
+  // takes it as the tricycle input that asks for it (TricycleModel's inverse kinematics).
   void set_command(const msgs::Twist& command);
-  // The command in force: clamped, and zero after a collision.
-  msgs::Twist command() const { return command_; }
+  // A steered base's own command: the driven wheel's speed and the steering angle, clamped to
+  // the profile's limits (std::logic_error on a differential base).
+  void set_steered_command(const kinematics::TricycleInput& input);
+  // The body velocity commanded, as the current steering angle makes it; zero after a collision.
+  msgs::Twist command() const;
+  // The steering wheel's true angle (0 on a differential base): it slews toward the command.
+  double steering_rad() const { return steering_rad_; }
 
   geometry::Pose2D true_pose() const { return pose_; }
   int collision_count() const { return collision_count_; }
@@ -99,6 +109,19 @@ class Simulator {
   int add_obstacle(double x_m, double y_m, double radius_m, double height_m);
   bool remove_obstacle(int id);
   const std::vector<Obstacle>& obstacles() const { return obstacles_; }
+  // Adds a coloured ball moving along its path from now on (MovingTarget's checks: throws
+  // std::invalid_argument naming the field); ids count from 1 after construction or reset.
+  int add_target(const MovingTargetSpec& spec);
+  bool remove_target(int id);
+  std::size_t target_count() const { return targets_.size(); }
+  // What the cameras see of the dynamic world now.
+  std::vector<SceneSphere> target_spheres() const;
+  std::vector<SceneCylinder> obstacle_cylinders() const;
+  // The ultrasonic ranger on the pan/tilt head (profile().pan_tilt_camera) with the head at
+  // `joints`: the nearest echo across its cone, in the horizontal plane at the lens's height
+  // (walls, boxes and obstacles that tall, and the moving targets' spheres where that plane cuts
+  // them), with gaussian noise of range_noise_fraction. Nothing without a head.
+  msgs::HeadRange read_head_range(const vision::PanTilt& joints);
   // Lifts the robot and sets it down at `pose` (a kidnap): the wheels do not turn, so the
   // encoders do not see it; everything else goes on.
   void teleport(const geometry::Pose2D& pose) { pose_ = pose; }
@@ -116,6 +139,9 @@ class Simulator {
   };
 
   void update_wheel_noise(double dt_s);
+  // The body velocity the drive gives over the next dt_s: the command on a differential base;
+  // a steered base first slews its steering toward the command (with its bias).
+  msgs::Twist drive_twist(double dt_s);
   // Moves through one slice of the step: the wheels turn by `rotation` (what the encoders count)
   // and roll `ground` over the floor (the same without slip); false when it ended in a collision.
   bool drive_substep(const WheelAngles& rotation, const WheelAngles& ground);
@@ -141,6 +167,7 @@ class Simulator {
   std::shared_ptr<const RayCaster> sonar_plane_;
   std::shared_ptr<const RayCaster> ir_plane_;  // null without an IR ring
   RayCaster walls_;  // the floor plan alone: walls are full height for the nodding laser
+  std::shared_ptr<const RayCaster> head_plane_;  // null without a pan/tilt head
   BodyCollider body_;
   WheelSlip slip_;
   SharpIrAdc ir_adc_;
@@ -148,6 +175,8 @@ class Simulator {
   geometry::Pose2D pose_;
   double time_s_ = 0.0;
   msgs::Twist command_;
+  kinematics::TricycleInput steered_command_;
+  double steering_rad_ = 0.0;
   WheelAngles wheel_angles_;
   double left_speed_error_ = 0.0;  // fraction of the commanded wheel speed
   double right_speed_error_ = 0.0;
@@ -156,6 +185,13 @@ class Simulator {
   bool in_contact_ = false;  // collided and has not moved freely since
   std::vector<Obstacle> obstacles_;
   int next_obstacle_id_ = 1;
+  struct Target {
+    int id = 0;
+    MovingTarget target;
+    double added_at_s = 0.0;
+  };
+  std::vector<Target> targets_;
+  int next_target_id_ = 1;
 
   std::mt19937_64 drive_rng_;
   std::mt19937_64 laser_rng_;
@@ -165,6 +201,7 @@ class Simulator {
   std::mt19937_64 tilt_rng_;
   std::mt19937_64 slip_rng_;
   std::mt19937_64 ir_rng_;
+  std::mt19937_64 head_range_rng_;
 };
 
 }  // namespace mobot::sim

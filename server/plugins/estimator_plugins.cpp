@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "core/estimation/ekf_pose_estimator.h"
+#include "core/estimation/landmark_pose_estimator.h"
 #include "core/estimation/particle_filter/particle_filter_estimator.h"
 #include "server/plugins/option_reader.h"
 
@@ -133,6 +134,25 @@ Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::No
   estimation::ParticleFilterEstimatorOptions options;
   options.filter = read_particle_filter_options(section);
   return [options] { return std::make_unique<estimation::ParticleFilterEstimator>(options); };
+}
+
+Registry<estimation::PoseEstimator>::Maker landmark_ekf_plugin(const YAML::Node& section,
+                                                               const PluginContext& context) {
+  estimation::LandmarkPoseEstimatorOptions options;
+  if (context.geometry.wheelbase_m > 0.0) options.filter.wheelbase_m = context.geometry.wheelbase_m;
+  OptionReader reader(section, "estimators.landmark_ekf");
+  reader.number("wheelbase_m", options.filter.wheelbase_m, 0.1, 10.0);
+  reader.number("speed_sigma_mps", options.filter.speed_sigma_mps, 1e-4, 10.0);
+  reader.number("steer_sigma_rad", options.filter.steer_sigma_rad, 1e-5, 1.0);
+  reader.number("range_sigma_m", options.filter.range_sigma_m, 1e-4, 10.0);
+  reader.number("bearing_sigma_rad", options.filter.bearing_sigma_rad, 1e-5, 1.0);
+  reader.number("predict_period_s", options.predict_period_s, 0.01, 1.0);
+  bool midpoint = options.filter.integration == estimation::TricycleIntegration::kMidpoint;
+  reader.flag("midpoint_integration", midpoint);
+  options.filter.integration =
+      midpoint ? estimation::TricycleIntegration::kMidpoint : estimation::TricycleIntegration::kEuler;
+  reader.done();
+  return [options] { return std::make_unique<estimation::LandmarkPoseEstimator>(options); };
 }
 
 }  // namespace mobot::server

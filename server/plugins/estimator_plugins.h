@@ -24,4 +24,9 @@ estimation::ParticleFilterOptions read_particle_filter_options(const YAML::Node&
 Registry<estimation::PoseEstimator>::Maker particle_filter_plugin(const YAML::Node& section,
                                                                   const PluginContext& context);
 
+// estimators.landmark_ekf (docs/algorithms.md E3): the filter's sigmas, its prediction period and
+// integration; the wheelbase defaults to the robot's.
+Registry<estimation::PoseEstimator>::Maker landmark_ekf_plugin(const YAML::Node& section,
+                                                               const PluginContext& context);
+
 }  // namespace mobot::server

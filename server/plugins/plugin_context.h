@@ -13,6 +13,8 @@ struct PluginContext {
   control::VelocityLimits limits;
   NavigationSection navigation;
   double control_period_s = 0.02;  // one tick of the control loop: 1 / robot.control_rate_hz
+  // The base's tightest turn (KinematicModel::min_turning_radius_m); 0 when it turns on the spot.
+  double min_turning_radius_m = 0.0;
 };
 
 inline PluginContext plugin_context(const Config& config,

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/control/dwa_tracker.h"
+#include "core/control/pure_pursuit_tracker.h"
 #include "core/control/vfh_tracker.h"
 #include "core/control/waypoint_follower.h"
 #include "server/plugins/option_reader.h"
@@ -128,6 +129,30 @@ Registry<control::PathTracker>::Maker vfh_plugin(const YAML::Node& section,
   reader.number("projection_window_m", options.projection_window_m, 0.1, 10.0);
   reader.done();
   return checked_maker<control::VfhTracker>(options, reader);
+}
+
+Registry<control::PathTracker>::Maker pure_pursuit_plugin(const YAML::Node& section,
+                                                          const PluginContext& context) {
+  control::PurePursuitOptions options;
+  options.max_linear_mps = std::min(context.navigation.max_linear_mps, context.limits.max_linear_mps);
+  options.max_angular_radps = context.limits.max_angular_radps;
+  options.min_turning_radius_m = context.min_turning_radius_m;
+  options.goal_tolerance_m = context.navigation.goal_tolerance_m;
+  options.goal_tolerance_rad = context.navigation.goal_tolerance_rad;
+  // A base that turns on the spot ends facing the goal heading, as the other trackers do.
+  options.align_heading = context.min_turning_radius_m == 0.0;
+  OptionReader reader(section, "controllers.pure_pursuit");
+  reader.number("lookahead_min_m", options.lookahead_min_m, 0.1, 20.0);
+  reader.number("lookahead_max_m", options.lookahead_max_m, 0.1, 20.0);
+  reader.number("lookahead_time_s", options.lookahead_time_s, 0.0, 10.0);
+  reader.number("max_linear_mps", options.max_linear_mps, 0.01, options.max_linear_mps);
+  reader.number("approach_decel_mps2", options.approach_decel_mps2, 0.01, 10.0);
+  reader.number("min_linear_mps", options.min_linear_mps, 0.0, options.max_linear_mps);
+  reader.flag("align_heading", options.align_heading);
+  reader.number("align_gain", options.align_gain, 0.01, 20.0);
+  reader.number("projection_window_m", options.projection_window_m, 0.1, 20.0);
+  reader.done();
+  return checked_maker<control::PurePursuitTracker>(options, reader);
 }
 
 }  // namespace mobot::server

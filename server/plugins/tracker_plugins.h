@@ -20,4 +20,9 @@ Registry<control::PathTracker>::Maker dwa_plugin(const YAML::Node& section,
 Registry<control::PathTracker>::Maker vfh_plugin(const YAML::Node& section,
                                                  const PluginContext& context);
 
+// controllers.pure_pursuit (docs/algorithms.md C3): look-ahead, speeds, align_heading (default on
+// a base that turns on the spot).
+Registry<control::PathTracker>::Maker pure_pursuit_plugin(const YAML::Node& section,
+                                                          const PluginContext& context);
+
 }  // namespace mobot::server

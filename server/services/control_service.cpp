@@ -47,12 +47,13 @@ api::DomainError plan_error(planning::PlanError error) {
 
 ControlService::ControlService(Runtime& runtime, Recorder& recorder, ControlStages stages,
                                const kinematics::KinematicModel& kinematics,
-                               const ConfiguredPlugins& plugins)
+                               const ConfiguredPlugins& plugins, NavigationSection defaults)
     : runtime_(runtime),
       recorder_(recorder),
       stages_(stages),
       kinematics_(kinematics),
-      plugins_(plugins) {}
+      plugins_(plugins),
+      defaults_(std::move(defaults)) {}
 
 void ControlService::teleop(const msgs::Twist& command, int ttl_ms,
                             api::Completion<msgs::Twist> done) {

@@ -26,7 +26,8 @@ struct ControlStages {
 class ControlService final : public api::ControlPort {
  public:
   ControlService(Runtime& runtime, Recorder& recorder, ControlStages stages,
-                 const kinematics::KinematicModel& kinematics, const ConfiguredPlugins& plugins);
+                 const kinematics::KinematicModel& kinematics, const ConfiguredPlugins& plugins,
+                 NavigationSection defaults = {});
 
   api::RobotSnapshot snapshot() const override { return runtime_.state()->robot; }
   double time_s() const override { return runtime_.state()->robot.t_s; }
@@ -41,6 +42,8 @@ class ControlService final : public api::ControlPort {
                              api::Completion<api::Done> done) override;
   std::vector<std::string> planner_names() const override { return plugins_.planners.names(); }
   std::vector<std::string> controller_names() const override { return plugins_.trackers.names(); }
+  std::string default_controller() const override { return defaults_.controller; }
+  std::string default_planner() const override { return defaults_.planner; }
 
  private:
   void start_planned(const api::GoalRequest& request, PlanningWorker::Outcome outcome,
@@ -50,6 +53,7 @@ class ControlService final : public api::ControlPort {
   ControlStages stages_;
   const kinematics::KinematicModel& kinematics_;
   const ConfiguredPlugins& plugins_;
+  const NavigationSection defaults_;
 };
 
 // The refusal a planning error is, in the contract's codes.

@@ -20,7 +20,8 @@ SimService::SimService(drivers::SimControl& sim, Runtime& runtime, Recorder& rec
   // The truth is known before the first tick: a reader right after start-up sees where the robot
   // stands, not the origin. (Posted before the loop starts: it runs with the start-up commands.)
   runtime_.post([this](TickContext& context) {
-    context.truth = api::SimTruth{context.now_s, sim_.true_pose(), sim_.collision_count()};
+    context.truth = api::SimTruth{context.now_s, sim_.true_pose(), sim_.collision_count(),
+                                  sim_.true_steering_rad()};
   });
 }
 
@@ -32,7 +33,7 @@ std::vector<api::WorldInfo> SimService::list_worlds() const {
 
 api::SimTruth SimService::sim_truth() const {
   const auto state = runtime_.state();
-  return state->truth.value_or(api::SimTruth{state->robot.t_s, {}, 0});
+  return state->truth.value_or(api::SimTruth{state->robot.t_s, {}, 0, std::nullopt});
 }
 
 void SimService::sim_reset(const api::SimResetRequest& request, api::Completion<api::Done> done) {
@@ -67,7 +68,7 @@ void SimService::kidnap(const geometry::Pose2D& pose, api::Completion<api::Done>
   runtime_.post([this, pose, done = std::move(done)](TickContext& context) mutable {
     if (!sim_.pose_is_free(pose)) return done(pose_in_obstacle());
     sim_.teleport(pose);
-    context.truth = api::SimTruth{context.now_s, pose, sim_.collision_count()};
+    context.truth = api::SimTruth{context.now_s, pose, sim_.collision_count(), sim_.true_steering_rad()};
     context.event("sim_kidnap", {{"x", pose.x}, {"y", pose.y}, {"theta", pose.theta}});
     after_commit(recorder_, context, std::move(done), api::Done{});
   });
@@ -82,7 +83,7 @@ void SimService::reset_on_loop(const std::shared_ptr<const drivers::SimWorldChoi
   stages_.estimate.reset(start, placement_covariance(), context);
   stages_.mux.drop_commands(context);
   // The truth the reply's readers see is the new one, not the last tick's.
-  context.truth = api::SimTruth{context.now_s, start, sim_.collision_count()};
+  context.truth = api::SimTruth{context.now_s, start, sim_.collision_count(), sim_.true_steering_rad()};
   context.event("sim_reset", {{"world", sim_.world_name()},
                               {"x", start.x},
                               {"y", start.y},
@@ -108,6 +109,37 @@ void SimService::remove_sim_obstacle(int id, api::Completion<api::Done> done) {
     if (!sim_.remove_obstacle(id)) {
       return done(api::DomainError{api::ErrorKind::kNotFound, "unknown_obstacle",
                                    "no obstacle with this id"});
+    }
+    context.then([done = std::move(done)] { done(api::Done{}); });
+  });
+}
+
+void SimService::add_sim_target(const api::SimTargetRequest& request,
+                                api::Completion<int> done) {
+  sim::MovingTargetSpec spec;
+  spec.color = {static_cast<std::uint8_t>(request.color[0]),
+                static_cast<std::uint8_t>(request.color[1]),
+                static_cast<std::uint8_t>(request.color[2])};
+  spec.radius_m = request.radius_m;
+  spec.height_m = request.height_m;
+  spec.path = request.path;
+  spec.speed_mps = request.speed_mps;
+  spec.loop = request.loop;
+  runtime_.post([this, spec, done = std::move(done)](TickContext& context) mutable {
+    try {
+      const int id = sim_.add_target(spec);
+      context.then([done = std::move(done), id] { done(id); });
+    } catch (const std::invalid_argument& error) {
+      done(api::DomainError{api::ErrorKind::kInvalid, "invalid_target", error.what()});
+    }
+  });
+}
+
+void SimService::remove_sim_target(int id, api::Completion<api::Done> done) {
+  runtime_.post([this, id, done = std::move(done)](TickContext& context) mutable {
+    if (!sim_.remove_target(id)) {
+      return done(api::DomainError{api::ErrorKind::kNotFound, "unknown_target",
+                                   "no target with this id"});
     }
     context.then([done = std::move(done)] { done(api::Done{}); });
   });

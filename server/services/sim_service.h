@@ -33,6 +33,8 @@ class SimService final : public api::SimControlPort {
   void set_time_scale(double time_scale) override { runtime_.set_time_scale(time_scale); }
   void add_sim_obstacle(const api::SimObstacleRequest& request, api::Completion<int> done) override;
   void remove_sim_obstacle(int id, api::Completion<api::Done> done) override;
+  void add_sim_target(const api::SimTargetRequest& request, api::Completion<int> done) override;
+  void remove_sim_target(int id, api::Completion<api::Done> done) override;
   void kidnap(const geometry::Pose2D& pose, api::Completion<api::Done> done) override;
 
  private:

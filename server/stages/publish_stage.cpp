@@ -17,12 +17,13 @@ std::string mode_of(const TickContext& context) {
   if (context.mapping) return "mapping";
   if (context.teleop_active) return "teleop";
   if (context.navigating) return "navigating";
+  if (context.following) return "following";
   return "idle";
 }
 
 }  // namespace
 
-api::RobotSnapshot robot_snapshot(const TickContext& context, const std::string& kinematics) {
+api::RobotSnapshot robot_snapshot(const TickContext& context, const RobotDescription& robot) {
   api::RobotSnapshot snapshot;
   snapshot.t_s = context.now_s;
   snapshot.mode = mode_of(context);
@@ -31,7 +32,9 @@ api::RobotSnapshot robot_snapshot(const TickContext& context, const std::string&
   snapshot.localization_method = context.localization_method;
   snapshot.localization_converged = context.localization_converged;
   snapshot.covariance = to_array(context.covariance);
-  snapshot.kinematics = kinematics;
+  snapshot.kinematics = robot.kinematics;
+  snapshot.steering_rad = context.steering_rad;
+  snapshot.geometry = robot.geometry;
   snapshot.estop = context.estop;
   for (const auto& sensor : context.sensors) {
     snapshot.sensors[sensor.name] = {sensor.ok, sensor.rate_hz, sensor.reason};
@@ -42,7 +45,7 @@ api::RobotSnapshot robot_snapshot(const TickContext& context, const std::string&
 void PublishStage::step(TickContext& context) {
   Bus& bus = *context.bus;
   bus.pose.publish({context.now_s, context.pose, context.odometry.twist,
-                    to_array(context.covariance), context.distance_m});
+                    to_array(context.covariance), context.distance_m, context.steering_rad});
   bus.odom.publish(context.odometry);
   if (context.image) bus.camera.publish(*context.image);
   if (context.scan && !scans_forwarded_) {
@@ -52,7 +55,7 @@ void PublishStage::step(TickContext& context) {
   if (context.sonar) bus.sonar.publish({*context.sonar, context.pose});
   if (context.ir) bus.ir.publish({*context.ir, context.pose});
   if (status_schedule_.due(context.now_s)) {
-    bus.status.publish(robot_snapshot(context, kinematics_));
+    bus.status.publish(robot_snapshot(context, robot_));
     status_schedule_.taken(context.now_s);
   }
   // The batch goes out from Runtime::tick, after the state is published: a client that reads

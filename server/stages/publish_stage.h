@@ -2,16 +2,24 @@
 
 #include <string>
 
+#include "core/kinematics/robot_geometry.h"
+
 #include "core/timing/rate_schedule.h"
 #include "server/stage.h"
 
 namespace mobot::server {
 
+// What /robot says of the machine itself: its kinematic model's name and its dimensions.
+struct RobotDescription {
+  std::string kinematics;
+  kinematics::RobotGeometry geometry;
+};
+
 // The tick's results on the bus: pose and odometry every tick, the scan and the sonar ring when
 // new, the status at 1 Hz; then the end of the batch, for the subscribers to send it.
 class PublishStage final : public Stage {
  public:
-  explicit PublishStage(std::string kinematics) : kinematics_(std::move(kinematics)) {}
+  explicit PublishStage(RobotDescription robot) : robot_(std::move(robot)) {}
 
   std::string_view name() const override { return "publish"; }
   void step(TickContext& context) override;
@@ -20,11 +28,11 @@ class PublishStage final : public Stage {
 
  private:
   bool scans_forwarded_ = false;
-  const std::string kinematics_;
+  const RobotDescription robot_;
   timing::RateSchedule status_schedule_{1.0};
 };
 
 // /robot's body as the context has it now.
-api::RobotSnapshot robot_snapshot(const TickContext& context, const std::string& kinematics);
+api::RobotSnapshot robot_snapshot(const TickContext& context, const RobotDescription& robot);
 
 }  // namespace mobot::server

@@ -28,6 +28,8 @@ void ReadDriversStage::step(TickContext& context) {
   poll(drivers_.compass.get(), context, context.compass);
   poll(drivers_.bearings.get(), context, context.bearings);
   poll(drivers_.camera.get(), context, context.image);
+  poll(drivers_.head_range.get(), context, context.head_range);
+  if (drivers_.pan_tilt) context.head = drivers_.pan_tilt->current();
 }
 
 }  // namespace mobot::server

@@ -12,7 +12,8 @@ class SimTruthStage final : public Stage {
 
   std::string_view name() const override { return "sim_truth"; }
   void step(TickContext& context) override {
-    context.truth = api::SimTruth{context.now_s, sim_.true_pose(), sim_.collision_count()};
+    context.truth = api::SimTruth{context.now_s, sim_.true_pose(), sim_.collision_count(),
+                                  sim_.true_steering_rad()};
     context.bus->truth.publish(*context.truth);
   }
 

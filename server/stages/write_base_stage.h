@@ -14,7 +14,9 @@ class WriteBaseStage final : public Stage {
 
   std::string_view name() const override { return "write_base"; }
   void step(TickContext& context) override {
-    base_.set_wheel_command(model_.to_wheels(context.command));
+    const msgs::WheelCommand wheels = model_.to_wheels(context.command);
+    base_.set_wheel_command(wheels);
+    if (model_.steered()) context.steering_rad = wheels.steering_rad;
   }
   // Zero at once, without waiting for a tick: e-stop and shutdown.
   void stop_now() { base_.set_wheel_command({}); }

@@ -17,6 +17,9 @@
 // localization method and the velocities whole, and the sweep's bar is full when it reads 100 %
 // (element boxes measured). mapping_steps.mjs adds keep-out zones, global localization with the
 // particle cloud and the mapping workflow; each skips, saying why, on a server without its path.
+// camera_steps.mjs adds the camera panel, tracking and following against a second mobotd started
+// with deploy/config/camera_robot.yaml when that file exists (skipped, saying why, when GET
+// /api/v1/camera answers 404).
 // Exit code 0 when every check passes (skips pass). Screenshots of failures go to tests/web/out/.
 
 import { spawn } from 'node:child_process';
@@ -27,14 +30,15 @@ import { dirname, join, resolve } from 'node:path';
 import { createInterface } from 'node:readline';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+import { cameraSteps, REPO_ROOT } from './camera_steps.mjs';
 import { mappingLocalizationZoneSteps, Skip } from './mapping_steps.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const OUT_DIR = join(HERE, 'out');
 const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
 // The mapping, localization and zone scenarios add about 40 s once the server has them (more on a
-// loaded machine).
-const TOTAL_BUDGET_MS = 180_000;
+// loaded machine), the camera scenarios (a second mobotd) about 30 s.
+const TOTAL_BUDGET_MS = 220_000;
 
 // ---------------------------------------------------------------- arguments
 
@@ -72,10 +76,14 @@ function parseArgs(argv) {
 
 // ---------------------------------------------------------------- mobotd
 
-/** Starts mobotd and resolves once it printed `mobotd listening on http://ADDR:PORT`. */
-function startServer(mobotd, { dataDir, token, port = 0 }) {
-  const argv = ['--backend', 'sim', '--port', String(port), '--time-scale', '1', '--data-dir', dataDir, '--token', token];
-  const child = spawn(mobotd, argv, { stdio: ['ignore', 'pipe', 'pipe'] });
+/**
+ * Starts mobotd and resolves once it printed `mobotd listening on http://ADDR:PORT`. `extraArgs`
+ * (e.g. --config) go after the test's own; `cwd` (default: this process's) is where relative paths
+ * in them resolve.
+ */
+function startServer(mobotd, { dataDir, token, port = 0, extraArgs = [], cwd = undefined }) {
+  const argv = ['--backend', 'sim', '--port', String(port), '--time-scale', '1', '--data-dir', dataDir, '--token', token, ...extraArgs];
+  const child = spawn(mobotd, argv, { stdio: ['ignore', 'pipe', 'pipe'], cwd });
   const log = [];
   const remember = (line) => {
     log.push(line);
@@ -250,12 +258,15 @@ async function main() {
   const token = randomBytes(18).toString('hex');
   const dataDir = mkdtempSync(join(tmpdir(), 'mobot-web-test-'));
   let server = null;
+  /** Other mobotd processes (the camera robot's), killed with the main one should the budget run out. */
+  const extraServers = new Set();
   let browser = null;
   const pageErrors = [];
   const t0 = Date.now();
   const budget = setTimeout(() => {
     console.error(`\nFAIL: the browser test exceeded its ${TOTAL_BUDGET_MS / 1000} s budget`);
     if (server) server.child.kill('SIGKILL');
+    for (const extra of extraServers) extra.child.kill('SIGKILL');
     process.exit(1);
   }, TOTAL_BUDGET_MS + 15_000);
 
@@ -769,6 +780,31 @@ async function main() {
 
     await mappingLocalizationZoneSteps({ page, base: () => base, token, step, rest, until, sleep, screenshot, toClient });
 
+    // The camera robot: a mobotd of its own (same token), started from the repository root so the
+    // config's relative paths and web/dist resolve; stopped and its data dir removed afterwards.
+    await cameraSteps({
+      browser, base: () => base, token, step, rest, until, sleep, screenshot, pageErrors,
+      startServer: async (extraArgs) => {
+        const extraDir = mkdtempSync(join(tmpdir(), 'mobot-web-camera-'));
+        const extra = startServer(args.mobotd, { dataDir: extraDir, token, extraArgs, cwd: REPO_ROOT });
+        extraServers.add(extra);
+        const stop = async () => {
+          const exit = await stopServer(extra);
+          extraServers.delete(extra);
+          if (!args.keep) rmSync(extraDir, { recursive: true, force: true });
+          return exit;
+        };
+        try {
+          const extraBase = await extra.ready;
+          console.log(`  camera robot: ${extraBase} (${extraArgs.join(' ')})`);
+          return { base: extraBase, log: extra.log, stop };
+        } catch (error) {
+          await stop();
+          throw error;
+        }
+      },
+    });
+
     await step('a wrong token shows an auth error instead of hanging', async () => {
       const badContext = await browser.newContext({ viewport: { width: 1200, height: 800 } });
       const bad = await badContext.newPage();
@@ -851,6 +887,7 @@ async function main() {
   } finally {
     clearTimeout(budget);
     if (browser) await browser.close().catch(() => {});
+    for (const extra of extraServers) await stopServer(extra);
     if (server) {
       const exit = await stopServer(server);
       if (exit && exit.code !== 0 && exit.signal !== 'SIGTERM') console.log(`  note: mobotd exited with code ${exit.code}`);

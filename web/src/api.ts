@@ -2,11 +2,13 @@
 // ApiError with the server's {"error":{"code","message"}}.
 
 import { ApiError, errorText } from './apierror';
+import type { ImageBox } from './camera_box';
 import type { Goal } from './goals';
 import type { JsonObstacleMap } from './ipabd';
 import type { EstimatorName } from './localization';
 import type { MappingStartReply, MappingStatus, MappingStopReply } from './mapping';
 import type { SweepInfo, SweepRequest } from './sweeps';
+import type { JsonGeometry } from './tricycle';
 import type { ZoneRequest } from './zones';
 
 export interface Pose {
@@ -29,7 +31,12 @@ export interface RobotStatus {
   velocity: { v: number; w: number };
   /** `method` starts with ekf, particle_filter, slam or odometry, a detail in parentheses may follow. */
   localization: { method: string; cov: number[]; converged?: boolean };
+  /** `differential`, `tricycle_t1` or `tricycle_t2`. */
   kinematics: string;
+  /** Tricycles: the front wheel's angle (rad, CCW). */
+  steering_rad?: number;
+  /** Tricycles: wheelbase and footprint (m); the footprint's centre is footprint_offset_m ahead of the rear axle. */
+  geometry?: JsonGeometry;
   estop: boolean;
   sensors: Record<string, SensorHealth>;
 }
@@ -148,7 +155,9 @@ export class ApiClient {
   private async json<T>(method: string, path: string, body?: unknown): Promise<T> {
     const response = await this.request(method, path, body);
     if (response.status === 204) return undefined as T;
-    return (await response.json()) as T;
+    // A 200 with an empty body (a DELETE that says nothing) is no body, not a parse error.
+    const text = await response.text();
+    return (text.trim() === '' ? undefined : JSON.parse(text)) as T;
   }
 
   /** GET returning the raw body (for downloads that need the bearer header). */
@@ -262,6 +271,32 @@ export class ApiClient {
   }
   sweepObstacleMap(id: number): Promise<JsonObstacleMap> {
     return this.json('GET', `/api/v1/sweeps/${id}/obstacle_map`);
+  }
+  /** GET /api/v1/camera: the camera's kind, image size, rate and head (404 no_camera without one). */
+  camera(): Promise<unknown> {
+    return this.json('GET', '/api/v1/camera');
+  }
+  /** PUT /api/v1/camera/pan_tilt (rad, within the head's limits). */
+  setPanTilt(pan: number, tilt: number): Promise<unknown> {
+    return this.json('PUT', '/api/v1/camera/pan_tilt', { pan, tilt });
+  }
+  /** GET /api/v1/tracking: the tracked target. */
+  tracking(): Promise<unknown> {
+    return this.json('GET', '/api/v1/tracking');
+  }
+  /** POST /api/v1/tracking: start tracking what is inside the box (image pixels). */
+  startTracking(box: ImageBox): Promise<unknown> {
+    return this.json('POST', '/api/v1/tracking', { box: { x: box.x, y: box.y, w: box.w, h: box.h } });
+  }
+  stopTracking(): Promise<unknown> {
+    return this.json('DELETE', '/api/v1/tracking');
+  }
+  /** POST /api/v1/follow: follow the tracked target at distance_m (0.5..5). */
+  follow(distance: number): Promise<unknown> {
+    return this.json('POST', '/api/v1/follow', { distance_m: distance });
+  }
+  stopFollowing(): Promise<unknown> {
+    return this.json('DELETE', '/api/v1/follow');
   }
   simTruth(): Promise<SimTruth> {
     return this.json('GET', '/api/v1/sim/truth');

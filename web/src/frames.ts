@@ -193,6 +193,17 @@ export function decodeCloudBody(buffer: ArrayBuffer, bodyOffset: number): CloudC
   };
 }
 
+/**
+ * The camera body (topic 5): one JPEG file, the whole rest of the message. A view, not a copy; a
+ * body that does not start with the JPEG start-of-image marker (FF D8) is refused.
+ */
+export function decodeCameraBody(buffer: ArrayBuffer, bodyOffset: number): Uint8Array {
+  const jpeg = new Uint8Array(buffer, bodyOffset);
+  if (jpeg.length < 4) throw new FrameError(`camera body too short (${jpeg.length} bytes)`);
+  if (jpeg[0] !== 0xff || jpeg[1] !== 0xd8) throw new FrameError('camera body is not a JPEG (no FF D8 start)');
+  return jpeg;
+}
+
 /** The flags of a map body (offset 28; bit 0: a tile frame). Zero for a body too short to hold them. */
 export function mapBodyFlags(buffer: ArrayBuffer, bodyOffset: number): number {
   if (buffer.byteLength < bodyOffset + 32) return 0;
@@ -206,6 +217,7 @@ export type BinaryFrame =
   | { header: FrameHeader; kind: 'cloud'; cloud: CloudChunk }
   | { header: FrameHeader; kind: 'costmap'; costmap: Costmap }
   | { header: FrameHeader; kind: 'particles'; particles: ParticleSet }
+  | { header: FrameHeader; kind: 'camera'; jpeg: Uint8Array }
   | { header: FrameHeader; kind: 'other' };
 
 export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
@@ -225,6 +237,8 @@ export function decodeBinaryFrame(buffer: ArrayBuffer): BinaryFrame {
       return { header, kind: 'costmap', costmap: decodeCostmapBody(buffer, header.headerBytes) };
     case BinaryTopic.particles:
       return { header, kind: 'particles', particles: decodeParticlesBody(buffer, header.headerBytes) };
+    case BinaryTopic.camera:
+      return { header, kind: 'camera', jpeg: decodeCameraBody(buffer, header.headerBytes) };
     default:
       return { header, kind: 'other' };
   }
@@ -264,6 +278,29 @@ export interface JsonCloud {
   scans_done: number;
   scans_total: number;
   points: number[][];
+}
+
+/** The `camera` topic as JSON ("encoding":"json"). */
+export interface JsonCamera {
+  width: number;
+  height: number;
+  encoding: string;
+  data_base64: string;
+}
+
+/** The JPEG bytes of a JSON camera frame. */
+export function cameraFromJson(data: JsonCamera): Uint8Array {
+  if (data.encoding !== 'jpeg') throw new FrameError(`camera encoding ${String(data.encoding)} is not jpeg`);
+  if (typeof data.data_base64 !== 'string') throw new FrameError('camera frame without data_base64');
+  let binary: string;
+  try {
+    binary = atob(data.data_base64);
+  } catch {
+    throw new FrameError('camera data_base64 is not base64');
+  }
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
+  return decodeCameraBody(bytes.buffer, 0);
 }
 
 export function cloudFromJson(data: JsonCloud): CloudChunk {

@@ -5,6 +5,7 @@ import { ApiClient } from './api';
 import type { RobotStatus } from './api';
 import { ApiError, errorText } from './apierror';
 import { basePath, forgetToken, initialToken, saveToken, streamUrl } from './auth';
+import { CameraPanel } from './camera_panel';
 import type { Pose2D } from './frames';
 import type { SonarReading } from './map/layers/sonar';
 import { LivePage } from './pages/live';
@@ -93,6 +94,31 @@ export interface MobotHooks {
   readonly irReadings: number;
   /** Keep-out zones of the map shown, the draw mode's draft and the last refusal. */
   readonly zones: { mapId: number | null; count: number; drawn: number; drawing: boolean; vertices: number; problem: string | null; error: string | null };
+  /** The robot's drawing: kinematics from /robot, the steering angle shown (tricycles; null otherwise). */
+  readonly robot: { kinematics: string | null; body: string; steering: number | null };
+  /**
+   * The Camera card: shown (GET /camera answered 200), its kind, the camera topic subscribed, frames
+   * drawn / decoded / dropped while decoding, the image size, the tracked target (status, box), the
+   * last box sent, a box being drawn, whether the robot follows, the head's pan/tilt, the last refusal.
+   */
+  readonly camera: {
+    available: boolean;
+    kind: string | null;
+    subscribed: boolean;
+    framesDrawn: number;
+    framesDecoded: number;
+    framesDropped: number;
+    width: number;
+    height: number;
+    target: { status: string; box: { x: number; y: number; w: number; h: number } | null; range: number | null };
+    lastBox: { x: number; y: number; w: number; h: number } | null;
+    drawing: boolean;
+    following: boolean;
+    head: { pan: number; tilt: number } | null;
+    error: string | null;
+  };
+  /** Camera image pixels -> viewport (client) CSS pixels, for mouse events on the camera image. */
+  cameraToClient(x: number, y: number): [number, number];
 }
 
 let token = initialToken();
@@ -118,6 +144,7 @@ const stream = new StreamClient({
     state: (state, detail) => showConnection(state, detail),
     hello: (hello) => {
       const truth = (hello.topics ?? []).some((t) => t.name === 'truth');
+      camera.onHello((hello.topics ?? []).map((t) => t.name));
       live.setTruthAvailable(truth);
       live.setTopicsAvailable((hello.topics ?? []).map((t) => t.name));
       nav.setSimAvailable(truth);
@@ -140,6 +167,9 @@ const stream = new StreamClient({
         case 'status':
           onRobotStatus(data as RobotStatus);
           break;
+        case 'target':
+          camera.onTarget(data);
+          break;
         case 'sonar':
           live.onSonar(data as { readings?: SonarReading[] });
           break;
@@ -161,6 +191,7 @@ const stream = new StreamClient({
           if ((data as { kind?: string }).kind === 'mapping') mapping.onEvent();
           if ((data as { kind?: string }).kind === 'ir_safety') showIrSafety((data as { detail?: unknown }).detail);
           if ((data as { kind?: string }).kind === 'fault') showFault((data as { detail?: unknown }).detail);
+          if ((data as { kind?: string }).kind === 'follow') camera.onFollowEvent((data as { detail?: unknown }).detail);
           break;
         default:
           break;
@@ -180,6 +211,7 @@ const stream = new StreamClient({
       localization.onParticles(particles);
     },
     cloud: (chunk) => cloud3d.onChunk(chunk),
+    camera: (jpeg) => camera.onFrame(jpeg),
     serverError: (code, message) => {
       lastError = `${code}: ${message}`;
       toast(`${message} (${code})`, 'error');
@@ -194,6 +226,11 @@ const live = new LivePage(stream, (command) => {
   return sent;
 });
 const nav = new NavigationPanel(api, live.mapView, () => live.lastPose);
+const camera = new CameraPanel(api, {
+  send: (message) => stream.send(message),
+  connected: () => stream.connected,
+  refreshStatus: () => void api.robot().then(onRobotStatus, () => {}),
+});
 nav.renderObstacles();
 const maps = new MapsPage(byId('page-maps'), api);
 const runs = new RunsPage(byId('page-runs'), api);
@@ -365,11 +402,39 @@ window.__mobot = {
       error: zones.lastError,
     };
   },
+  get robot() {
+    const body = live.body;
+    return { kinematics: live.status?.kinematics ?? null, body: body.kind, steering: live.steering };
+  },
+  get camera() {
+    const box = (b: { x: number; y: number; w: number; h: number } | null | undefined) => (b ? { x: b.x, y: b.y, w: b.w, h: b.h } : null);
+    const canvas = document.getElementById('camera-canvas') as HTMLCanvasElement | null;
+    return {
+      available: camera.available,
+      kind: camera.info?.kind ?? null,
+      subscribed: camera.subscribed,
+      framesDrawn: camera.framesDrawn,
+      framesDecoded: camera.queue.decoded,
+      framesDropped: camera.queue.dropped,
+      width: canvas?.width ?? 0,
+      height: canvas?.height ?? 0,
+      target: { status: camera.target.status, box: box(camera.target.box), range: camera.target.range_m ?? null },
+      lastBox: box(camera.lastBox),
+      drawing: camera.drawing,
+      following: camera.following,
+      head: camera.headAngles,
+      error: camera.lastError,
+    };
+  },
+  cameraToClient(x: number, y: number) {
+    return camera.imageToClient(x, y);
+  },
 };
 
 /** /robot (REST or the status topic): every panel that shows part of it. */
 function onRobotStatus(status: RobotStatus): void {
   live.onStatus(status);
+  camera.onStatus(status);
   showEstop(status.estop);
   mapping.onStatus(status);
   localization.onStatus(status);
@@ -413,9 +478,12 @@ function showConnection(state: ConnectionState, detail: string): void {
     void mapping.connected();
     void localization.connected();
     void zones.connected();
+    void camera.connected();
     void cloud3d.connected();
     if (ipabd.enabled) void ipabd.refresh();
     if (currentPage !== 'live') void refreshPage(currentPage);
+  } else {
+    camera.disconnected();
   }
 }
 
@@ -523,6 +591,7 @@ function showPage(page: string): void {
   live.teleop.enabled = page === 'live';
   nav.enabled = page === 'live';
   zones.enabled = page === 'live';
+  camera.setVisible(page === 'live');
   if (page !== 'live') {
     nav.setMode(null);
     zones.stop();

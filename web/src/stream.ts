@@ -3,22 +3,26 @@
 
 import { costmapFromJson } from './costmap';
 import type { Costmap, JsonCostmap } from './costmap';
-import { cloudFromJson, decodeBinaryFrame, FrameError, mapFromJson, scanFromJson } from './frames';
-import type { BinaryFrame, CloudChunk, FrameHeader, JsonCloud, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
+import { cameraFromJson, cloudFromJson, decodeBinaryFrame, FrameError, mapFromJson, scanFromJson } from './frames';
+import type { BinaryFrame, CloudChunk, FrameHeader, JsonCamera, JsonCloud, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
 import { particlesFromJson } from './particles';
 import type { JsonParticles, ParticleSet } from './particles';
 import { backoffDelayMs, StreamStats } from './stats';
 import { isTileJson, tilesFromJson } from './tiles';
 import type { TileUpdate } from './tiles';
 
-/** Subscribed when the hello advertises them (ir, costmaps and particles: robots and builds that have them). */
+/**
+ * Subscribed when the hello advertises them (ir, costmaps, particles and target: robots and builds
+ * that have them). The `camera` topic is not among them: the Camera card subscribes to it itself,
+ * thinned, only while it is shown on a robot that has a camera.
+ */
 export const WANTED_TOPICS = [
   'pose', 'odom', 'scan', 'sonar', 'ir', 'map', 'status', 'events', 'truth', 'goal', 'path', 'cloud',
-  'costmap', 'local_costmap', 'particles',
+  'costmap', 'local_costmap', 'particles', 'target',
 ];
 
 /** Topics only some servers have: without a topic list in the hello they are not asked for. */
-const OPTIONAL_TOPICS = ['truth', 'ir', 'costmap', 'local_costmap', 'particles'];
+const OPTIONAL_TOPICS = ['truth', 'ir', 'costmap', 'local_costmap', 'particles', 'target'];
 
 export type ConnectionState = 'connecting' | 'connected' | 'disconnected' | 'auth_error';
 
@@ -55,6 +59,8 @@ export interface StreamHandlers {
   particles?(particles: ParticleSet, meta: FrameMeta): void;
   /** A chunk of a 3D sweep's point cloud (one tilting-laser scan). */
   cloud?(chunk: CloudChunk, meta: FrameMeta): void;
+  /** One camera frame: the JPEG file (a view into the received message). */
+  camera?(jpeg: Uint8Array, meta: FrameMeta): void;
   /** `{"op":"error"}` replies: unknown op/topic, teleop refused (estop_engaged, forbidden) ... */
   serverError?(code: string, message: string): void;
   teleopAck?(v: number, w: number): void;
@@ -285,6 +291,12 @@ export class StreamClient {
             }
           }
           return;
+        case 'unsubscribed':
+          if (Array.isArray(message.topics)) {
+            const gone = message.topics as string[];
+            this.subscribed = this.subscribed.filter((topic) => !gone.includes(topic));
+          }
+          return;
         case 'error':
           handlers.serverError?.(String(message.code ?? 'error'), String(message.message ?? ''));
           return;
@@ -311,6 +323,7 @@ export class StreamClient {
       else if (topic === 'cloud' && handlers.cloud) handlers.cloud(cloudFromJson(message.data as JsonCloud), meta);
       else if ((topic === 'costmap' || topic === 'local_costmap') && handlers.costmap) handlers.costmap(costmapFromJson(message.data as JsonCostmap), meta);
       else if (topic === 'particles' && handlers.particles) handlers.particles(particlesFromJson(message.data as JsonParticles), meta);
+      else if (topic === 'camera' && handlers.camera) handlers.camera(cameraFromJson(message.data as JsonCamera), meta);
       else handlers.json?.(topic, message.data, meta);
     } catch (error) {
       console.warn(`mobot: bad ${topic} frame`, error);
@@ -354,6 +367,9 @@ export class StreamClient {
         break;
       case 'particles':
         handlers.particles?.(frame.particles, meta);
+        break;
+      case 'camera':
+        handlers.camera?.(frame.jpeg, meta);
         break;
       default:
         break;

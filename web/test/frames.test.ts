@@ -1,5 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import {
+  cameraFromJson,
   cloudFromJson,
   decodeBinaryFrame,
   FrameError,
@@ -192,7 +193,7 @@ describe('map frames', () => {
   });
 
   it('leaves unknown topics to the caller', () => {
-    expect(decodeBinaryFrame(frame(5, new ArrayBuffer(8))).kind).toBe('other');
+    expect(decodeBinaryFrame(frame(7, new ArrayBuffer(8))).kind).toBe('other');
   });
 });
 
@@ -254,5 +255,32 @@ describe('cloud frames', () => {
     expect(Array.from(c.points.subarray(0, 4))).toEqual([1, 2, 3, 0.5]);
     expect(Number.isNaN(c.points[6])).toBe(true); // JSON null: no coordinate
     expect(() => cloudFromJson({ ...json, count: 3 })).toThrow(FrameError);
+  });
+});
+
+describe('camera frames', () => {
+  // The start and end of a JPEG file: SOI, an APP0 marker's first bytes, EOI.
+  const jpeg = new Uint8Array([0xff, 0xd8, 0xff, 0xe0, 0x00, 0x10, 0x4a, 0x46, 0xff, 0xd9]);
+
+  it('decodes topic 5 as the JPEG that fills the rest of the message, after a longer header too', () => {
+    for (const headerBytes of [32, 40]) {
+      const decoded = decodeBinaryFrame(frame(5, jpeg.slice().buffer, { seq: 9, t: 3.5, headerBytes }));
+      if (decoded.kind !== 'camera') throw new Error(`decoded as ${decoded.kind}`);
+      expect(decoded.header.topic).toBe('camera');
+      expect(decoded.header.seq).toBe(9);
+      expect(Array.from(decoded.jpeg)).toEqual(Array.from(jpeg));
+    }
+  });
+
+  it('rejects a body that is not a JPEG', () => {
+    expect(() => decodeBinaryFrame(frame(5, new Uint8Array([0x89, 0x50, 0x4e, 0x47, 0, 0]).buffer))).toThrow(/not a JPEG/);
+    expect(() => decodeBinaryFrame(frame(5, new Uint8Array([0xff]).buffer))).toThrow(/too short/);
+  });
+
+  it('decodes the JSON encoding (data_base64)', () => {
+    const data_base64 = btoa(String.fromCharCode(...jpeg));
+    expect(Array.from(cameraFromJson({ width: 640, height: 480, encoding: 'jpeg', data_base64 }))).toEqual(Array.from(jpeg));
+    expect(() => cameraFromJson({ width: 640, height: 480, encoding: 'png', data_base64 })).toThrow(FrameError);
+    expect(() => cameraFromJson({ width: 640, height: 480, encoding: 'jpeg', data_base64: '%%%' })).toThrow(FrameError);
   });
 });

@@ -8,6 +8,7 @@ import { ViewTransform } from '../src/map/view_transform';
 import { particlesFromJson } from '../src/particles';
 import { PolygonDraft } from '../src/polygon_tool';
 import { TileStore } from '../src/tile_store';
+import { robotBody } from '../src/tricycle';
 
 /** The drawing order, bottom first: the map (whole or being built), the costmaps, zones, sensors, plans, robot, tools. */
 const EXPECTED_ORDER = [
@@ -224,5 +225,36 @@ describe('layers', () => {
     layers.scan.set(scan);
     layers.scan.draw(frame);
     expect(layers.scan.scansDrawn).toBe(2);
+  });
+});
+
+describe('robot layer', () => {
+  const pose = { x: 1, y: 2, theta: 0.3 };
+  const tricycle = robotBody({ kinematics: 'tricycle_t1', geometry: { wheelbase_m: 0.9, footprint_length_m: 1.3, footprint_width_m: 0.7, footprint_offset_m: 0.45 } });
+  const count = (calls: string[], name: string) => calls.filter((c) => c === name).length;
+
+  it('draws a differential robot as the filled square with its heading', () => {
+    const layers = createMapLayers(() => {});
+    const { ctx, calls } = recordingContext();
+    layers.robot.draw(frameOf(ctx, { pose }));
+    expect(count(calls, 'fill')).toBe(1);
+  });
+
+  it('draws a tricycle as its body and three wheels; the ghost as the outline alone', () => {
+    const layers = createMapLayers(() => {});
+    expect(layers.robot.setBody(tricycle)).toBe(true);
+    expect(layers.robot.setBody(robotBody({ kinematics: 'tricycle_t1', geometry: { wheelbase_m: 0.9, footprint_length_m: 1.3, footprint_width_m: 0.7, footprint_offset_m: 0.45 } }))).toBe(false);
+    layers.robot.steering = 0.4;
+    const { ctx, calls } = recordingContext();
+    layers.robot.draw(frameOf(ctx, { pose }));
+    expect(count(calls, 'fill')).toBe(4); // body + 2 rear wheels + front wheel
+    const redraw = vi.fn();
+    const ghost = createMapLayers(redraw).truth;
+    ghost.setBody(tricycle);
+    ghost.set(pose);
+    const recorded = recordingContext();
+    ghost.draw(frameOf(recorded.ctx));
+    expect(count(recorded.calls, 'fill')).toBe(0);
+    expect(count(recorded.calls, 'stroke')).toBe(1);
   });
 });

@@ -176,9 +176,33 @@ def g2_lobby(out_dir):
                plan, (0.0, 0.0, math.pi / 2), boxes, landmarks)
 
 
+def yard(out_dir):
+    """docs/algorithms.md R3/E3: a 40 x 30 m fenced yard for the tricycles (a 1.84 m wheelbase turns
+    no tighter than 1.84 m), with two sheds, a container and a pallet stack to plan around, and ten
+    beacons on the fence and the buildings for the range-bearing landmark EKF."""
+    plan = FloorPlan(0.0, 0.0, 40.0, 30.0)
+    plan.outer_walls()
+    plan.wall(10.0, 18.0, 16.0, 24.0)    # shed north-west
+    plan.wall(24.0, 6.0, 31.0, 11.0)     # shed south-east
+    plan.wall(18.0, 9.0, 20.5, 15.0)     # container, north-south
+    plan.wall(30.0, 20.0, 32.0, 22.0)    # pallet stack
+    plan.write_pgm(out_dir / "yard.pgm")
+    boxes = []
+    landmarks = [
+        ("beacon_sw", 0.6, 0.6), ("beacon_s", 20.0, 0.6), ("beacon_se", 39.4, 0.6),
+        ("beacon_e", 39.4, 15.0), ("beacon_ne", 39.4, 29.4), ("beacon_n", 20.0, 29.4),
+        ("beacon_nw", 0.6, 29.4), ("beacon_w", 0.6, 15.0),
+        ("beacon_shed_nw", 9.7, 17.7), ("beacon_shed_se", 31.3, 11.3),
+    ]
+    write_yaml(out_dir / "world.yaml", "yard",
+               "40 x 30 m fenced yard for the tricycles: two sheds, a container, a pallet stack "
+               "and ten range-bearing beacons",
+               plan, (5.0, 15.0, 0.0), boxes, landmarks)
+
+
 def main():
     here = pathlib.Path(__file__).resolve().parent
-    for name, build in (("office", office), ("g2_lobby", g2_lobby)):
+    for name, build in (("office", office), ("g2_lobby", g2_lobby), ("yard", yard)):
         out_dir = here / name
         out_dir.mkdir(exist_ok=True)
         build(out_dir)

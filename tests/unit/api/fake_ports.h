@@ -301,9 +301,41 @@ class FakeSim : public SimControlPort {
     kidnapped_to = pose;
     answers_.complete(std::move(done), Result<Done>(Done{}));
   }
+  void add_sim_target(const SimTargetRequest& request, Completion<int> done) override {
+    last_target = request;
+    answers_.complete(std::move(done), Result<int>(1));
+  }
+  void remove_sim_target(int id, Completion<Done> done) override {
+    if (id != 1) {
+      return answers_.complete(std::move(done),
+                               Result<Done>(DomainError{ErrorKind::kNotFound, "unknown_target", "no"}));
+    }
+    answers_.complete(std::move(done), Result<Done>(Done{}));
+  }
+  std::optional<SimTargetRequest> last_target;
 
  private:
   Answers& answers_;
+};
+
+// A robot without a camera: every camera request is refused with no_camera.
+class FakeCamera : public CameraPort {
+ public:
+  std::optional<CameraDescription> camera() const override { return std::nullopt; }
+  std::shared_ptr<const msgs::Image> snapshot() const override { throw DomainException(refusal()); }
+  void set_pan_tilt(double, double, Completion<CameraDescription::Head> done) override {
+    done(refusal());
+  }
+  void start_tracking(const PixelBox&, Completion<TrackingSnapshot> done) override {
+    done(refusal());
+  }
+  TrackingSnapshot tracking() const override { throw DomainException(refusal()); }
+  void stop_tracking(Completion<TrackingSnapshot> done) override { done(refusal()); }
+  void start_follow(double, Completion<Done> done) override { done(refusal()); }
+  void stop_follow(Completion<Done> done) override { done(refusal()); }
+
+ private:
+  static DomainError refusal() { return {ErrorKind::kNotFound, "no_camera", "no camera"}; }
 };
 
 struct FakePorts {
@@ -317,12 +349,12 @@ struct FakePorts {
   FakeSweeps sweeps{answers};
   FakeSystem system;
   FakeSim sim{answers};
+  FakeCamera camera;
 
   // The doors into this fake robot, with or without the simulator's.
   Ports ports(bool simulated = true) {
-    return {control,      maps,   mapping,
-            localization, runs,   tokens,
-            sweeps,       system, simulated ? &sim : nullptr};
+    return {control, maps,   mapping, localization, runs,
+            tokens,  sweeps, system,  camera,       simulated ? &sim : nullptr};
   }
 };
 

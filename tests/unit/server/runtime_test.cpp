@@ -27,7 +27,7 @@ TEST(Runtime, TicksRunTheStagesInOrderOnAMonotonicClock) {
   Pipeline pipeline;
   pipeline.add(std::make_unique<RecordingStage>("read", log));
   pipeline.add(std::make_unique<RecordingStage>("write", log));
-  Runtime runtime(bus, std::move(pipeline), 0.02, "differential");
+  Runtime runtime(bus, std::move(pipeline), 0.02, RobotDescription{"differential", {}});
   EXPECT_EQ(runtime.stage_names(), (std::vector<std::string>{"read", "write"}));
   runtime.tick();
   runtime.tick();
@@ -42,7 +42,7 @@ TEST(Runtime, ACommandRunsBetweenTicksAndItsReplySeesTheStateItMade) {
   std::vector<std::string> log;
   Pipeline pipeline;
   pipeline.add(std::make_unique<RecordingStage>("stage", log));
-  Runtime runtime(bus, std::move(pipeline), 0.02, "differential");
+  Runtime runtime(bus, std::move(pipeline), 0.02, RobotDescription{"differential", {}});
   int flushes = 0;
   bus.flush.subscribe([&](const TickEnd&) { ++flushes; });
   std::string mode_in_reply;
@@ -65,7 +65,7 @@ TEST(Runtime, ATicksStreamBatchGoesOutAfterItsStateIsPublished) {
   std::vector<std::string> log;
   Pipeline pipeline;
   pipeline.add(std::make_unique<RecordingStage>("stage", log));
-  Runtime runtime(bus, std::move(pipeline), 0.02, "differential");
+  Runtime runtime(bus, std::move(pipeline), 0.02, RobotDescription{"differential", {}});
   std::vector<double> state_t_at_flush;
   bus.flush.subscribe([&](const TickEnd& end) {
     EXPECT_NEAR(runtime.state()->robot.t_s, end.t_s, 1e-12) << "flushed before the state";

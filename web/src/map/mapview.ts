@@ -8,6 +8,7 @@ import { mapCorners } from '../frames';
 import type { MapGrid, Pose2D } from '../frames';
 import { TileStore } from '../tile_store';
 import type { TileUpdate } from '../tiles';
+import type { RobotBody } from '../tricycle';
 import { MapCanvas } from './canvas';
 import { BACKGROUND } from './colors';
 import { MapInput } from './input';
@@ -110,11 +111,28 @@ export class MapView {
     return this.scene.map;
   }
 
-  /** The estimated pose, whatever the estimator; a `cov` of 9 numbers (3x3, x y theta) adds the uncertainty layers. */
-  setPose(pose: Pose2D & { cov?: readonly number[] }): void {
+  /**
+   * The estimated pose, whatever the estimator; a `cov` of 9 numbers (3x3, x y theta) adds the
+   * uncertainty layers, a tricycle's `steering_rad` turns its front wheel.
+   */
+  setPose(pose: Pose2D & { cov?: readonly number[]; steering_rad?: number }): void {
     this.scene.pose = pose;
     this.scene.cov = Array.isArray(pose.cov) && pose.cov.length === 9 ? pose.cov : null;
+    if (typeof pose.steering_rad === 'number' && Number.isFinite(pose.steering_rad)) this.layers.robot.steering = pose.steering_rad;
     this.layers.trail.add(pose.x, pose.y);
+    this.invalidate();
+  }
+
+  /** What the robot looks like (differential footprint or a tricycle's body), estimate and ghost. */
+  setRobotBody(body: RobotBody): void {
+    this.layers.truth.setBody(body);
+    if (this.layers.robot.setBody(body)) this.invalidate();
+  }
+
+  /** A tricycle's steering angle when no pose carried one (the status topic). */
+  setSteering(steering: number): void {
+    if (!Number.isFinite(steering) || steering === this.layers.robot.steering) return;
+    this.layers.robot.steering = steering;
     this.invalidate();
   }
 

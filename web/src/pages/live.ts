@@ -11,6 +11,8 @@ import type { LayerSwitch } from '../map/layer';
 import type { ParticleSet } from '../particles';
 import { setParts, showMethod } from '../status_text';
 import type { TileUpdate } from '../tiles';
+import { DIFFERENTIAL, kinematicsLabel, robotBody, steeringText } from '../tricycle';
+import type { RobotBody } from '../tricycle';
 import { MapView } from '../map/mapview';
 import type { StreamClient } from '../stream';
 import { mountJoystick, TeleopController } from '../teleop';
@@ -25,6 +27,8 @@ export interface PoseData {
   v: number;
   w: number;
   cov?: number[];
+  /** Tricycles: the front wheel's angle (rad, CCW); absent on differential robots. */
+  steering_rad?: number;
 }
 
 export interface RobotEvent {
@@ -59,6 +63,8 @@ export class LivePage {
   lastPose: PoseData | null = null;
   status: RobotStatus | null = null;
   truth: { pose: Pose2D; collisions: number } | null = null;
+  /** What the map draws for the robot (from /robot's kinematics and geometry). */
+  body: RobotBody = DIFFERENTIAL;
   private events: RobotEvent[] = [];
   private eventsDirty = false;
   private poseDirty = false;
@@ -197,7 +203,20 @@ export class LivePage {
   onStatus(status: RobotStatus): void {
     this.status = status;
     this.poseDirty = true;
+    this.body = robotBody(status);
+    this.mapView.setRobotBody(this.body);
+    // The pose topic's steering (50 Hz) is fresher; the status's serves a stream without it.
+    if (typeof status.steering_rad === 'number' && typeof this.lastPose?.steering_rad !== 'number') this.mapView.setSteering(status.steering_rad);
+    document.body.classList.toggle('tricycle', this.body.kind === 'tricycle');
     this.refreshStatus();
+  }
+
+  /** The steering angle shown (rad): the latest pose's, else the status's; null on a differential robot. */
+  get steering(): number | null {
+    if (this.body.kind !== 'tricycle') return null;
+    const fromPose = this.lastPose?.steering_rad;
+    if (typeof fromPose === 'number') return fromPose;
+    return typeof this.status?.steering_rad === 'number' ? this.status.steering_rad : null;
   }
 
   onEvent(data: { t: number; kind: string; detail: unknown }): void {
@@ -244,6 +263,12 @@ export class LivePage {
         const sy = Math.sqrt(Math.max(0, cov[4]!));
         const st = headingSigma(cov);
         setParts(byId('st-sigma'), [`x ${cm(sx)}`, `y ${cm(sy)}`, `θ ${st === null ? '–' : deg(st)}`]);
+      }
+      if (this.body.kind === 'tricycle') {
+        const steering = byId('st-steering');
+        steering.textContent = steeringText(this.steering);
+        const g = this.body.geometry;
+        steering.title = `${kinematicsLabel(this.body)}: front wheel angle (positive steers left); wheelbase ${fmt(g.wheelbase)} m${this.body.assumed ? ' (assumed: /robot has no geometry)' : ''}`;
       }
       if (this.truth) {
         const t = this.truth.pose;

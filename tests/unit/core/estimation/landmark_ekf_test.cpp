@@ -28,7 +28,8 @@ struct Outcome {
 };
 
 Outcome simulate(const std::vector<geometry::Point2D>& landmarks, unsigned seed,
-                 const LandmarkEkfOptions& options = {}) {
+                 const LandmarkEkfOptions& options = {},
+                 std::vector<double>* nees_per_step = nullptr) {
   const double dt = 0.1;
   std::mt19937 rng(seed);
   std::normal_distribution<double> unit(0.0, 1.0);
@@ -60,7 +61,9 @@ Outcome simulate(const std::vector<geometry::Point2D>& landmarks, unsigned seed,
     EXPECT_TRUE(ekf.update(observations).applied());
     const Eigen::Vector3d e(truth.x - ekf.pose().x, truth.y - ekf.pose().y,
                             geometry::wrap_angle(truth.theta - ekf.pose().theta));
-    if (k >= 50) out.mean_nees += e.dot(ekf.covariance().ldlt().solve(e)) / (steps - 50);
+    const double nees = e.dot(ekf.covariance().ldlt().solve(e));
+    if (nees_per_step) nees_per_step->push_back(nees);
+    if (k >= 50) out.mean_nees += nees / (steps - 50);
     out.final_error_m = e.head<2>().norm();
     out.rmse_m += e.head<2>().squaredNorm() / steps;
     out.final_heading_error_rad = std::abs(e(2));
@@ -96,6 +99,35 @@ TEST(LandmarkEkf, MidpointIntegrationIsConsistent) {
   std::printf("LandmarkEkf mean NEES with midpoint steps: %.2f\n", nees);
   EXPECT_LT(nees, 3.6);
   EXPECT_GT(nees, 2.2);
+}
+
+// The consistency test of Bar-Shalom et al. (Estimation with Applications to Tracking and
+// Navigation, 5.4.2): over N Monte Carlo runs the average NEES at each step is chi-square with
+// 3N degrees of freedom divided by N; its two-sided 95 % interval for N = 100 is [2.54, 3.50]
+// (chi2(300) 2.5 % and 97.5 % points 253.9 and 349.9). A consistent filter has about 95 % of
+// the steps inside it.
+TEST(LandmarkEkf, NeesStaysInsideIts95PercentBoundsOver100Runs) {
+  LandmarkEkfOptions options;
+  options.integration = TricycleIntegration::kMidpoint;
+  const int runs = 100;
+  std::vector<double> average;
+  for (unsigned seed = 1; seed <= runs; ++seed) {
+    std::vector<double> nees;
+    simulate({{10.0, 10.0}, {-5.0, 15.0}}, seed, options, &nees);
+    if (average.empty()) average.assign(nees.size(), 0.0);
+    for (std::size_t k = 0; k < nees.size(); ++k) average[k] += nees[k] / runs;
+  }
+  int inside = 0;
+  int counted = 0;
+  // The first steps carry the initial error of the 1 m prior, which is not what is tested.
+  for (std::size_t k = 20; k < average.size(); ++k) {
+    ++counted;
+    if (average[k] >= 2.54 && average[k] <= 3.50) ++inside;
+  }
+  const double fraction = static_cast<double>(inside) / counted;
+  std::printf("LandmarkEkf: %.1f %% of steps inside the 95 %% NEES bounds (100 runs)\n",
+              100.0 * fraction);
+  EXPECT_GE(fraction, 0.90);
 }
 
 TEST(LandmarkEkf, MoreLandmarksHelp) {

@@ -96,9 +96,15 @@ TEST(DashgoD1, MatchesR2) {
 }
 
 TEST(RobotProfiles, OneTableEntryPerRobot) {
-  ASSERT_EQ(robot_profiles().size(), 2U);
+  ASSERT_EQ(robot_profiles().size(), 5U);
   EXPECT_EQ(robot_profiles()[0].name, "r1");
   EXPECT_EQ(robot_profiles()[1].name, "dashgo_d1");
+  EXPECT_EQ(robot_profiles()[2].name, "tricycle_t1");
+  EXPECT_EQ(robot_profiles()[3].name, "tricycle_t2");
+  EXPECT_EQ(robot_profiles()[4].name, "camera_robot");
+  EXPECT_TRUE(profile_named("tricycle_t1")->steering.has_value());
+  EXPECT_FALSE(profile_named("r1")->steering.has_value());
+  EXPECT_TRUE(profile_named("camera_robot")->pan_tilt_camera.has_value());
   ASSERT_TRUE(profile_named("dashgo_d1"));
   EXPECT_DOUBLE_EQ(profile_named("dashgo_d1")->track_m, 0.3559);
   EXPECT_DOUBLE_EQ(profile_named("r1")->track_m, r1_profile().track_m);

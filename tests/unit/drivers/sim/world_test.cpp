@@ -172,9 +172,10 @@ TEST(World, LoadsTheG2LobbyOfP2) {
 
 TEST(World, ListsTheBuiltInsSortedByName) {
   const auto worlds = list_worlds(builtin_worlds_dir());
-  ASSERT_EQ(worlds.size(), 2U);
+  ASSERT_EQ(worlds.size(), 3U);
   EXPECT_EQ(worlds[0].name, "g2_lobby");
   EXPECT_EQ(worlds[1].name, "office");
+  EXPECT_EQ(worlds[2].name, "yard");
   EXPECT_FALSE(worlds[0].description.empty());
   EXPECT_TRUE(list_worlds(builtin_worlds_dir() / "no_such_dir").empty());
 }

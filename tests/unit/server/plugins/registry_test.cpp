@@ -32,11 +32,11 @@ TEST(Registry, EveryRegisteredPluginIsConstructibleFromItsDefaults) {
 
 TEST(Registry, KnowsTheBuiltInNames) {
   const Plugins plugins = builtin_plugins();
-  EXPECT_EQ(plugins.planners.names(), (std::vector<std::string>{"astar", "voronoi"}));
-  EXPECT_EQ(plugins.trackers.names(), (std::vector<std::string>{"dwa", "lyapunov", "vfh"}));
+  EXPECT_EQ(plugins.planners.names(), (std::vector<std::string>{"astar", "hybrid_astar", "voronoi"}));
+  EXPECT_EQ(plugins.trackers.names(), (std::vector<std::string>{"dwa", "lyapunov", "pure_pursuit", "vfh"}));
   EXPECT_EQ(plugins.estimators.names(),
-            (std::vector<std::string>{"ekf", "odometry", "particle_filter"}));
-  EXPECT_EQ(plugins.kinematics.names(), (std::vector<std::string>{"differential"}));
+            (std::vector<std::string>{"ekf", "landmark_ekf", "odometry", "particle_filter"}));
+  EXPECT_EQ(plugins.kinematics.names(), (std::vector<std::string>{"differential", "tricycle_t1", "tricycle_t2"}));
   EXPECT_FALSE(plugins.planners.contains("dijkstra"));
   EXPECT_FALSE(plugins.trackers.contains("teb"));
 }

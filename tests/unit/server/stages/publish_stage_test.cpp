@@ -9,6 +9,8 @@
 namespace mobot::server {
 namespace {
 
+const RobotDescription kDifferential{"differential", {}};
+
 TEST(PublishStage, EmitsEachTopicOncePerTickAndLeavesTheFlushToTheRuntime) {
   Bus bus;
   std::vector<std::string> order;
@@ -18,7 +20,7 @@ TEST(PublishStage, EmitsEachTopicOncePerTickAndLeavesTheFlushToTheRuntime) {
   bus.sonar.subscribe([&](const SonarSample&) { order.emplace_back("sonar"); });
   bus.status.subscribe([&](const api::RobotSnapshot&) { order.emplace_back("status"); });
   bus.flush.subscribe([&](const TickEnd&) { order.emplace_back("flush"); });
-  PublishStage publish("differential");
+  PublishStage publish(RobotDescription{"differential", {}});
   TickContext context(bus);
 
   std::map<std::string, int> counts;
@@ -42,14 +44,14 @@ TEST(PublishStage, EmitsEachTopicOncePerTickAndLeavesTheFlushToTheRuntime) {
 TEST(PublishStage, TheSnapshotsModeFollowsEstopTeleopAndNavigation) {
   Bus bus;
   TickContext context(bus);
-  EXPECT_EQ(robot_snapshot(context, "differential").mode, "idle");
+  EXPECT_EQ(robot_snapshot(context, kDifferential).mode, "idle");
   context.navigating = true;
-  EXPECT_EQ(robot_snapshot(context, "differential").mode, "navigating");
+  EXPECT_EQ(robot_snapshot(context, kDifferential).mode, "navigating");
   context.teleop_active = true;
-  EXPECT_EQ(robot_snapshot(context, "differential").mode, "teleop");
+  EXPECT_EQ(robot_snapshot(context, kDifferential).mode, "teleop");
   context.estop = true;
-  EXPECT_EQ(robot_snapshot(context, "differential").mode, "estop");
-  EXPECT_EQ(robot_snapshot(context, "differential").kinematics, "differential");
+  EXPECT_EQ(robot_snapshot(context, kDifferential).mode, "estop");
+  EXPECT_EQ(robot_snapshot(context, kDifferential).kinematics, "differential");
 }
 
 }  // namespace

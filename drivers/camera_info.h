@@ -1,0 +1,26 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/vision/camera_pose.h"
+#include "core/vision/omni_camera_model.h"
+
+namespace mobot::drivers {
+
+// What a robot's camera is, for the API and for whoever reads its pixels: "pan_tilt" (a pinhole
+// camera on the PanTiltDriver's head), "omni" (R1's mirror camera) or "fixed" (a pinhole camera
+// looking ahead from the base).
+struct CameraInfo {
+  std::string kind = "fixed";
+  vision::PinholeCamera pinhole;           // pan_tilt and fixed
+  std::optional<vision::OmniCameraModel> omni;  // omni
+  double rate_hz = 10.0;
+  // The lens above the floor (omni: the mirror's single viewpoint).
+  double height_m = 0.0;
+  // The ranger beside the lens (R4) sees the target only while it is within this cone of the
+  // optical axis; 0 without one.
+  double range_cone_rad = 0.0;
+};
+
+}  // namespace mobot::drivers
