@@ -76,7 +76,8 @@ TEST_F(CameraRobotTest, BadRequestsGetTheContractsErrorsAndChangeNothing) {
   EXPECT_EQ(operator_client().post("/api/v1/tracking", std::string("{\"box\":{\"x\":NaN}}")).status,
             400);
   EXPECT_EQ(operator_client().post("/api/v1/tracking", json::object()).status, 400);
-  // A grey patch of wall has no colour to track.
+  // A grey patch of wall has no colour to track (once there is a frame to look at).
+  ASSERT_TRUE(wait_until([] { return viewer().get("/api/v1/camera/snapshot").status == 200; }, 5s));
   const HttpReply grey = track_box(json{{"x", 10}, {"y", 10}, {"w", 40}, {"h", 40}});
   EXPECT_EQ(grey.status, 422) << grey.body;
   EXPECT_EQ(viewer().get("/api/v1/tracking").json().at("status"), "idle");
