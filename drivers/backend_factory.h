@@ -35,6 +35,8 @@ struct BackendOptions {
   double sonar_rate_hz = 10.0;
   double compass_rate_hz = 10.0;
   SimOdometryErrors odometry_errors;
+  // R1's omni camera as rendered pixels (landmark bearings from the image) rather than geometry.
+  bool omni_pixels = false;
   // The real devices (`--backend hardware`): the config's hardware section, one entry per role
   // (base, laser, ir, tilt, bus, camera), each {driver, device, baud, ...}.
   YAML::Node hardware;

@@ -108,6 +108,7 @@ drivers::BackendOptions backend_options(const Config& config) {
   options.sonar_rate_hz = config.robot.sonar_rate_hz;
   options.compass_rate_hz = config.robot.compass_rate_hz;
   options.odometry_errors = config.sim.odometry;
+  options.omni_pixels = config.sim.omni_pixels;
   if (config.document && config.document["hardware"])
     options.hardware = config.document["hardware"];
   options.control_rate_hz = config.robot.control_rate_hz;

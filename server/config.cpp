@@ -159,7 +159,7 @@ void reject_unknown_keys(const YAML::Node& root) {
       {"limits",
        {"max_linear_mps", "max_angular_radps", "max_linear_accel_mps2",
         "max_angular_accel_radps2"}},
-      {"sim", {"world", "worlds_dir", "seed", "time_scale", "odometry", "provide_map"}},
+      {"sim", {"world", "worlds_dir", "seed", "time_scale", "odometry", "provide_map", "omni_pixels"}},
       {"odometry", {"left_wheel_radius_m", "right_wheel_radius_m", "track_m"}},
       {"localization", {"method"}},
       {"navigation",
@@ -245,6 +245,7 @@ Config load_config(const std::filesystem::path& file) {
   reader.read("sim", "seed", config.sim.seed);
   reader.read_number("sim", "time_scale", config.sim.time_scale, 0.1, 100.0);
   reader.read("sim", "provide_map", config.sim.provide_map);
+  reader.read("sim", "omni_pixels", config.sim.omni_pixels);
   read_sim_odometry(reader, config.sim);
 
   reader.read_number("odometry", "left_wheel_radius_m", config.odometry.left_wheel_radius_m, 0.0,

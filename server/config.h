@@ -53,6 +53,9 @@ struct SimSection {
   // sim.odometry: {scale_error, heading_drift_rad_per_m, step_noise_fraction}; each unset key
   // keeps the robot profile's value (docs/algorithms.md R2).
   drivers::SimOdometryErrors odometry;
+  // R1's omni camera rendered as an image, its landmark bearings found in the pixels (E2,
+  // measurement 3) instead of computed from the geometry.
+  bool omni_pixels = false;
 };
 
 // Wheel geometry odometry integrates with. Unset (0) means the robot profile's nominal values;

@@ -97,6 +97,11 @@ Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listene
   Pipeline pipeline;
   pipeline.add(std::make_unique<AdvanceStage>(*backend_));
   pipeline.add(std::make_unique<ReadDriversStage>(drivers));
+  if (drivers.camera_info && drivers.camera_info->omni) {
+    pipeline.add(std::make_unique<OmniBearingStage>(*drivers.camera_info->omni,
+                                                    drivers.camera_info->landmarks,
+                                                    drivers.camera_info->landmark_range_m));
+  }
   estimate_ = &pipeline.add(std::make_unique<EstimateStage>(
       odometry_params(config.odometry, backend_->geometry()),
       [this](std::string_view name) { return plugins_.estimators.make(name); },

@@ -13,6 +13,7 @@
 #include "server/runtime.h"
 #include "server/stages/estimate_stage.h"
 #include "server/stages/follow_stage.h"
+#include "server/stages/omni_bearing_stage.h"
 #include "server/stages/mapping_stage.h"
 #include "server/stages/mux_stage.h"
 #include "server/stages/navigate_stage.h"

@@ -28,6 +28,13 @@ RobotProfile configured_profile(const drivers::BackendOptions& options) {
     throw drivers::BackendError("robot.profile: the simulator has no '" + options.profile +
                                 "' robot; it has " + names);
   }
+  if (options.omni_pixels && profile->has_omni_camera) {
+    // The omni camera's image is rendered and its bearings found in the pixels, instead of the
+    // geometric bearings.
+    profile->omni_image = OmniImageProfile{};
+    profile->omni_image->rate_hz = options.compass_rate_hz;
+    profile->has_omni_camera = false;
+  }
   const drivers::SimOdometryErrors& overrides = options.odometry_errors;
   if (overrides.any()) {
     OdometryErrors errors = odometry_errors_of(*profile);
@@ -123,6 +130,10 @@ void SimBackend::make_cameras() {
   drivers::CameraInfo info;
   info.kind = "omni";
   info.omni = omni.model;
+  for (const Landmark& landmark : simulator_->world().landmarks) {
+    info.landmarks.push_back({landmark.name, {landmark.x_m, landmark.y_m}});
+  }
+  info.landmark_range_m = profile_.camera_range_m;
   info.rate_hz = omni.rate_hz;
   info.height_m = omni.height_m;
   drivers_.camera_info = info;
