@@ -23,7 +23,7 @@ if ! cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOBOT_TSAN=ON 
   exit 1
 fi
 cmake --build build-tsan -j"$(nproc)" --target mobot_api_tests mobot_server_tests
-export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
+export TSAN_OPTIONS="halt_on_error=1 exitcode=66 suppressions=$ROOT/tests/tsan.supp"
 build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
 build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
 unset TSAN_OPTIONS
