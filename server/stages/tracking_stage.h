@@ -54,7 +54,6 @@ class TrackingStage final : public Stage {
 
   const drivers::CameraInfo camera_;
   const drivers::PanTiltDriver* head_;
-  TrackingWorker worker_;
   bool active_ = false;
   std::optional<msgs::HeadRange> range_;
   std::optional<double> size_times_range_;  // px m, averaged over the ranges that fitted
@@ -65,6 +64,8 @@ class TrackingStage final : public Stage {
   mutable std::mutex mutex_;  // latest_ (read by the snapshot endpoint) and started_
   std::shared_ptr<const msgs::Image> latest_;
   std::optional<StartOutcome> started_;
+  // Last: its thread, which calls back into started_ under mutex_, is joined before they go.
+  TrackingWorker worker_;
 };
 
 }  // namespace mobot::server
