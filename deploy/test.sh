@@ -28,14 +28,14 @@ build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
 build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
 unset TSAN_OPTIONS
 
-echo "== bounded fuzzing: every parser of device bytes (libFuzzer, clang), 10 s each"
+echo "== bounded fuzzing: every parser of device bytes (libFuzzer, clang), 5 s each"
 mkdir -p build-fuzz
 if ! CXX=clang++ cmake -S . -B build-fuzz -DMOBOT_FUZZ=ON >build-fuzz/cmake-configure.log 2>&1; then
   cat build-fuzz/cmake-configure.log >&2
   exit 1
 fi
 cmake --build build-fuzz -j"$(nproc)"
-tests/fuzz/run_fuzzers.sh build-fuzz -max_total_time=10
+tests/fuzz/run_fuzzers.sh build-fuzz -max_total_time=5
 
 echo "== reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3, E5)"
 build/tests/bench/mobot_umbmark
