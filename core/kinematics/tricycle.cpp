@@ -34,6 +34,18 @@ msgs::Twist tricycle_body_velocity(const TricycleGeometry& geometry, const Tricy
   return body;
 }
 
+TricycleInput tricycle_input_for(const TricycleGeometry& geometry, const msgs::Twist& body) {
+  // Below this forward speed a curvature is meaningless (w / v blows up): the steering holds still.
+  constexpr double kMinSpeedForCurvature_mps = 1e-6;
+  const double v = body.linear_mps;
+  if (!std::isfinite(v) || !std::isfinite(body.angular_radps) ||
+      std::abs(v) < kMinSpeedForCurvature_mps) {
+    return {};
+  }
+  const double steer_rad = std::atan(geometry.wheelbase_m * body.angular_radps / v);
+  return {geometry.type == TricycleType::kType1 ? v / std::cos(steer_rad) : v, steer_rad};
+}
+
 TricycleInput saturate(const TricycleGeometry& geometry, const TricycleLimits& limits,
                        const TricycleInput& input) {
   if (!limits.saturate) return input;

@@ -38,6 +38,11 @@ struct TricycleGeometry {
 // The body velocity (v, w) of the reference point for an input.
 msgs::Twist tricycle_body_velocity(const TricycleGeometry& geometry, const TricycleInput& input);
 
+// The input that yields the body velocity (no limits): both types steer to tan(alpha) = d w / v;
+// type 1's driven wheel runs v / cos(alpha). A body velocity without forward speed has none (a
+// tricycle cannot turn on the spot): zero.
+TricycleInput tricycle_input_for(const TricycleGeometry& geometry, const msgs::Twist& body);
+
 // The input clamped to the steering and speed limits, then scaled down (speed only, the steering
 // kept) until |v| and |w| are within theirs; unchanged when saturation is off. The acceleration
 // limit belongs to whoever ramps the speed over time (the smoother).

@@ -4,13 +4,6 @@
 #include <stdexcept>
 
 namespace mobot::kinematics {
-namespace {
-
-// Below this forward speed a curvature is meaningless (w / v blows up): the steering holds still.
-constexpr double kMinSpeedForCurvature_mps = 1e-6;
-
-}  // namespace
-
 TricycleModel::TricycleModel(TricycleModelOptions options) : options_(options) {
   const TricycleLimits& limits = options_.limits;
   if (!(options_.geometry.wheelbase_m > 0.0) || !std::isfinite(options_.geometry.wheelbase_m)) {
@@ -28,16 +21,7 @@ std::string_view TricycleModel::name() const {
 }
 
 TricycleInput TricycleModel::input_for(const msgs::Twist& body) const {
-  const double v = body.linear_mps;
-  if (!std::isfinite(v) || !std::isfinite(body.angular_radps) ||
-      std::abs(v) < kMinSpeedForCurvature_mps) {
-    return {};
-  }
-  // Both types steer to the same angle for a curvature: tan(alpha) = d w / v.
-  const double steer_rad = std::atan(options_.geometry.wheelbase_m * body.angular_radps / v);
-  const double drive_mps =
-      options_.geometry.type == TricycleType::kType1 ? v / std::cos(steer_rad) : v;
-  return {drive_mps, steer_rad};
+  return tricycle_input_for(options_.geometry, body);
 }
 
 msgs::Twist TricycleModel::feasible(const msgs::Twist& command) const {

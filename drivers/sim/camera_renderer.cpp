@@ -15,6 +15,30 @@
 namespace mobot::sim {
 namespace {
 
+// The pixel bounds of what an object can cover, grown point by point.
+struct Bounds {
+  double min_u = std::numeric_limits<double>::infinity();
+  double max_u = -std::numeric_limits<double>::infinity();
+  double min_v = std::numeric_limits<double>::infinity();
+  double max_v = -std::numeric_limits<double>::infinity();
+
+  void add(const cv::Point2d& point) {
+    min_u = std::min(min_u, point.x);
+    max_u = std::max(max_u, point.x);
+    min_v = std::min(min_v, point.y);
+    max_v = std::max(max_v, point.y);
+  }
+  bool empty() const { return min_u > max_u; }
+  // One pixel of margin against the elevation table's rounding.
+  cv::Rect rect() const {
+    const int u0 = static_cast<int>(std::floor(min_u)) - 1;
+    const int v0 = static_cast<int>(std::floor(min_v)) - 1;
+    return {u0, v0, static_cast<int>(std::ceil(max_u)) + 2 - u0,
+            static_cast<int>(std::ceil(max_v)) + 2 - v0};
+  }
+};
+
+
 // The centre disc and the corners of the omni image: the camera's own reflection and the mirror's
 // mount, dark but not black.
 constexpr Bgr kOutsideMirror{24.0f, 24.0f, 24.0f};
@@ -111,21 +135,6 @@ class PinholeLens {
 
  private:
   static constexpr double kNear_m = 1e-3;
-
-  struct Bounds {
-    double min_u = std::numeric_limits<double>::infinity();
-    double max_u = -std::numeric_limits<double>::infinity();
-    double min_v = std::numeric_limits<double>::infinity();
-    double max_v = -std::numeric_limits<double>::infinity();
-
-    void add(const cv::Point2d& point) {
-      min_u = std::min(min_u, point.x);
-      max_u = std::max(max_u, point.x);
-      min_v = std::min(min_v, point.y);
-      max_v = std::max(max_v, point.y);
-    }
-    bool empty() const { return min_u > max_u; }
-  };
 
   cv::Point2d project(const Vec3& offset, double depth) const {
     return {centre_u_ - focal_px_ * dot(offset, left_) / depth,
@@ -246,27 +255,6 @@ class MirrorLens {
   }
 
  private:
-  struct Bounds {
-    double min_u = std::numeric_limits<double>::infinity();
-    double max_u = -std::numeric_limits<double>::infinity();
-    double min_v = std::numeric_limits<double>::infinity();
-    double max_v = -std::numeric_limits<double>::infinity();
-
-    void add(const cv::Point2d& point) {
-      min_u = std::min(min_u, point.x);
-      max_u = std::max(max_u, point.x);
-      min_v = std::min(min_v, point.y);
-      max_v = std::max(max_v, point.y);
-    }
-    // One pixel of margin against the elevation table's rounding.
-    cv::Rect rect() const {
-      const int u0 = static_cast<int>(std::floor(min_u)) - 1;
-      const int v0 = static_cast<int>(std::floor(min_v)) - 1;
-      return {u0, v0, static_cast<int>(std::ceil(max_u)) + 2 - u0,
-              static_cast<int>(std::ceil(max_v)) + 2 - v0};
-    }
-  };
-
   cv::Point2d sector_point(double azimuth_rad, double radius_px) const {
     return {model_.centre_u_px - radius_px * std::sin(azimuth_rad),
             model_.centre_v_px - radius_px * std::cos(azimuth_rad)};

@@ -172,15 +172,10 @@ void Simulator::set_command(const msgs::Twist& command) {
     command_ = clamp_command(command, profile_);
     return;
   }
-  const msgs::Twist clamped = clamp_command(command, profile_);
-  kinematics::TricycleInput input;
-  if (std::abs(clamped.linear_mps) > 1e-9) {
-    input.steer_rad =
-        std::atan(profile_.steering->wheelbase_m * clamped.angular_radps / clamped.linear_mps);
-    input.drive_mps = profile_.steering->type == kinematics::TricycleType::kType1
-                          ? clamped.linear_mps / std::cos(input.steer_rad)
-                          : clamped.linear_mps;
-  }
+  const kinematics::TricycleGeometry geometry{profile_.steering->type,
+                                              profile_.steering->wheelbase_m};
+  const kinematics::TricycleInput input =
+      kinematics::tricycle_input_for(geometry, clamp_command(command, profile_));
   set_steered_command(input);
 }
 

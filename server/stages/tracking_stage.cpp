@@ -55,14 +55,14 @@ void TrackingStage::stop(TickContext& context) {
 }
 
 vision::PanTilt TrackingStage::head_at(double stamp_s) const {
-  vision::PanTilt joints;
+  // The last angles at or before the stamp; a frame older than the history gets its oldest.
+  if (head_history_.empty()) return {};
+  vision::PanTilt joints = head_history_.front().second;
   for (const auto& [t_s, at] : head_history_) {
     if (t_s > stamp_s) break;
     joints = at;
   }
-  return head_history_.empty() || head_history_.front().first > stamp_s
-             ? (head_history_.empty() ? joints : head_history_.front().second)
-             : joints;
+  return joints;
 }
 
 void TrackingStage::step(TickContext& context) {
