@@ -1,6 +1,7 @@
 #include "api/json_request.h"
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "api/api_error.h"
@@ -56,6 +57,18 @@ std::optional<double> optional_number(const nlohmann::json& object, const char* 
                                       double max) {
   if (!object.contains(key) || object[key].is_null()) return std::nullopt;
   return finite_number(object[key], key, min, max);
+}
+
+std::optional<int> optional_integer(const nlohmann::json& object, const char* key, int min,
+                                    int max) {
+  if (!object.contains(key) || object[key].is_null()) return std::nullopt;
+  const auto& value = object[key];
+  const auto within = "must be a whole number within [" + std::to_string(min) + ", " +
+                      std::to_string(max) + "]";
+  if (!value.is_number_integer()) invalid(key, within);
+  const auto number = value.get<std::int64_t>();
+  if (number < min || number > max) invalid(key, within);
+  return static_cast<int>(number);
 }
 
 std::string require_string(const nlohmann::json& object, const char* key, std::size_t max_length) {

@@ -19,6 +19,9 @@ nlohmann::json parse_json_body(std::string_view body);
 double require_number(const nlohmann::json& object, const char* key, double min, double max);
 std::optional<double> optional_number(const nlohmann::json& object, const char* key, double min,
                                       double max);
+// A whole number (50, not 50.5 nor "50") within [min, max], or nullopt when the key is absent.
+std::optional<int> optional_integer(const nlohmann::json& object, const char* key, int min,
+                                    int max);
 std::string require_string(const nlohmann::json& object, const char* key,
                            std::size_t max_length = 256);
 std::optional<bool> optional_bool(const nlohmann::json& object, const char* key);

@@ -79,9 +79,8 @@ void StreamHub::publish_odom(const msgs::Odometry& odometry) {
 }
 
 template <class JsonData, class BinaryFrame>
-void StreamHub::publish_bulk(TopicId topic, double t_s, JsonData&& json_data,
-                             BinaryFrame&& binary_frame) {
-  const FrameStamp stamp = next_stamp(topic, t_s);
+SharedFrame StreamHub::encode_bulk(TopicId topic, const FrameStamp& stamp, JsonData&& json_data,
+                                   BinaryFrame&& binary_frame) {
   const auto i = topic_index(topic);
   SharedFrame frame;
   frame.wall_us = stamp.wall_us;
@@ -92,6 +91,13 @@ void StreamHub::publish_bulk(TopicId topic, double t_s, JsonData&& json_data,
   if (binary_subscribers_[i].load(std::memory_order_relaxed) > 0) {
     frame.binary = as_binary_frame(binary_frame(stamp));
   }
+  return frame;
+}
+
+template <class JsonData, class BinaryFrame>
+void StreamHub::publish_bulk(TopicId topic, double t_s, JsonData&& json_data,
+                             BinaryFrame&& binary_frame) {
+  const SharedFrame frame = encode_bulk(topic, next_stamp(topic, t_s), json_data, binary_frame);
   if (frame.json || frame.binary) distribute(topic, frame);
 }
 
@@ -101,10 +107,51 @@ void StreamHub::publish_scan(const msgs::LaserScan& scan, const geometry::Pose2D
       [&](const FrameStamp& stamp) { return encode_binary_scan(stamp, scan, sensor_in_map); });
 }
 
+SharedFrame StreamHub::encode_camera(const FrameStamp& stamp, const msgs::Image& image) {
+  return encode_bulk(
+      TopicId::kCamera, stamp, [&] { return camera_json(image); },
+      [&](const FrameStamp& s) { return encode_binary_camera(s, image); });
+}
+
 void StreamHub::publish_camera(const msgs::Image& image) {
-  publish_bulk(
-      TopicId::kCamera, image.stamp_s, [&] { return camera_json(image); },
-      [&](const FrameStamp& stamp) { return encode_binary_camera(stamp, image); });
+  const FrameStamp stamp = next_stamp(TopicId::kCamera, image.stamp_s);
+  if (!wanted(TopicId::kCamera)) return;
+  // A JPEG of unknown quality may still be compressed further.
+  const int source_quality =
+      image.encoding == "jpeg" ? (image.jpeg_quality > 0 ? image.jpeg_quality : 100) : 0;
+  SharedFrame frame = encode_camera(stamp, image);
+  frame.source_quality = source_quality;
+  distribute(TopicId::kCamera, frame);
+  std::vector<int> qualities = qualities_below(source_quality);
+  if (qualities.empty()) return;
+  std::call_once(requality_started_, [this] {
+    requality_ = std::make_unique<CameraRequality>(
+        [this](const FrameStamp& s, std::vector<std::pair<int, msgs::Image>> variants) {
+          publish_requalified(s, std::move(variants));
+        });
+  });
+  requality_->submit(image, stamp, std::move(qualities));
+}
+
+std::vector<int> StreamHub::qualities_below(int source_quality) const {
+  std::vector<int> qualities;
+  for (int quality = 1; quality < source_quality; ++quality) {
+    if (camera_quality_subscribers_[static_cast<std::size_t>(quality)].load(
+            std::memory_order_relaxed) > 0) {
+      qualities.push_back(quality);
+    }
+  }
+  return qualities;
+}
+
+void StreamHub::publish_requalified(const FrameStamp& stamp,
+                                    std::vector<std::pair<int, msgs::Image>> variants) {
+  for (const auto& [quality, image] : variants) {
+    SharedFrame frame = encode_camera(stamp, image);
+    frame.quality_variant = quality;
+    if (frame.json || frame.binary) distribute(TopicId::kCamera, frame);
+  }
+  flush();
 }
 
 void StreamHub::publish_target(const TrackingSnapshot& snapshot) {
@@ -263,8 +310,11 @@ void StreamHub::distribute(TopicId topic, const SharedFrame& frame) {
   std::lock_guard lock(mutex_);
   if (sessions_->empty()) return;
   // Flushes stalled behind a long pass must not pile up: a session would keep only the newest
-  // few frames of a topic anyway.
-  const auto same_topic = [topic](const TopicFrame& pending) { return pending.topic == topic; };
+  // few frames of a topic anyway. (A camera frame compressed again for capped clients is a stream
+  // of its own.)
+  const auto same_topic = [topic, &frame](const TopicFrame& pending) {
+    return pending.topic == topic && pending.frame.quality_variant == frame.quality_variant;
+  };
   if (static_cast<std::size_t>(std::count_if(pending_.begin(), pending_.end(), same_topic)) >=
       options_.max_frames_per_topic) {
     pending_.erase(std::find_if(pending_.begin(), pending_.end(), same_topic));
@@ -346,6 +396,12 @@ void StreamHub::count_subscription(TopicId topic, bool binary, int delta) {
   auto& counter =
       binary ? binary_subscribers_[topic_index(topic)] : json_subscribers_[topic_index(topic)];
   counter.fetch_add(delta, std::memory_order_relaxed);
+}
+
+void StreamHub::count_camera_quality(int quality, int delta) {
+  if (quality < 1 || quality > 100) return;
+  camera_quality_subscribers_[static_cast<std::size_t>(quality)].fetch_add(
+      delta, std::memory_order_relaxed);
 }
 
 std::string StreamHub::hello_frame() const {

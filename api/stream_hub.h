@@ -12,6 +12,7 @@
 #include <boost/asio/any_io_executor.hpp>
 #include <nlohmann/json.hpp>
 
+#include "api/camera_requality.h"
 #include "api/frame_codec.h"
 #include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
@@ -44,6 +45,11 @@ struct SharedFrame {
   std::shared_ptr<const std::string> json;    // complete WebSocket frame (text)
   std::shared_ptr<const std::string> binary;  // complete WebSocket frame (binary), bulk topics only
   std::int64_t wall_us = 0;
+  // Camera frames: the JPEG quality the camera compressed this one with (0: not JPEG, no other
+  // quality can be made), and, for a copy compressed again for clients that capped their quality
+  // (camera_quality), that cap (0: the camera's own frame).
+  int source_quality = 0;
+  int quality_variant = 0;
 };
 
 struct TopicFrame {
@@ -104,6 +110,8 @@ class StreamHub {
   void attach(const std::shared_ptr<StreamSession>& session);
   void detach(const StreamSession* session);
   void count_subscription(TopicId topic, bool binary, int delta);
+  // Camera subscribers that capped the JPEG quality at `quality` (1..100).
+  void count_camera_quality(int quality, int delta);
   // The current map in the given encoding (for a new subscriber), or an empty frame.
   SharedFrame latest_map_frame(bool binary);
   std::string hello_frame() const;
@@ -133,6 +141,14 @@ class StreamHub {
   // A topic with a binary encoding: json_data() gives the JSON data, binary_frame(stamp) the frame.
   template <class JsonData, class BinaryFrame>
   void publish_bulk(TopicId topic, double t_s, JsonData&& json_data, BinaryFrame&& binary_frame);
+  template <class JsonData, class BinaryFrame>
+  SharedFrame encode_bulk(TopicId topic, const FrameStamp& stamp, JsonData&& json_data,
+                          BinaryFrame&& binary_frame);
+  SharedFrame encode_camera(const FrameStamp& stamp, const msgs::Image& image);
+  // The capped qualities somebody asked for that are below the camera's own.
+  std::vector<int> qualities_below(int source_quality) const;
+  void publish_requalified(const FrameStamp& stamp,
+                           std::vector<std::pair<int, msgs::Image>> variants);
   void complete_map_frame(LatestMap& map, bool binary);
   void distribute(TopicId topic, const SharedFrame& frame);
   void start_pass_locked();
@@ -143,6 +159,7 @@ class StreamHub {
   std::array<std::atomic<int>, kTopicCount> json_subscribers_{};
   std::array<std::atomic<int>, kTopicCount> binary_subscribers_{};
   std::array<std::atomic<std::uint64_t>, kTopicCount> seq_{};
+  std::array<std::atomic<int>, 101> camera_quality_subscribers_{};  // by cap, 1..100
 
   mutable std::mutex mutex_;  // guards everything below
   // Replaced, never modified, on attach and detach: a write pass walks its own snapshot without
@@ -160,6 +177,11 @@ class StreamHub {
   std::atomic<std::uint64_t> bytes_sent_{0};
   std::atomic<std::uint64_t> frames_dropped_{0};
   std::atomic<std::uint64_t> sessions_opened_{0};
+
+  // Started when a client first caps the camera's quality; last, so that its thread (which
+  // publishes) is joined before anything it uses goes.
+  std::once_flag requality_started_;
+  std::unique_ptr<CameraRequality> requality_;
 };
 
 }  // namespace mobot::api

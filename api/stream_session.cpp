@@ -18,6 +18,13 @@ constexpr double kRateTolerance = 0.8;
 // RFC 6455 7.4.1: the endpoint is going away, here because its peer has gone silent.
 constexpr std::uint16_t kGoingAway = 1001;
 
+// A client that capped the camera's quality takes the copy made at its cap, or the camera's own
+// frame when that is not above the cap (or cannot be made smaller); the others take the camera's.
+bool serves_quality(int cap, const SharedFrame& frame) {
+  if (frame.quality_variant != 0) return frame.quality_variant == cap;
+  return cap == 0 || frame.source_quality <= cap;
+}
+
 }  // namespace
 
 StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub,
@@ -34,10 +41,13 @@ StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub
 
 StreamSession::~StreamSession() {
   for (std::size_t i = 0; i < kTopicCount; ++i) {
-    if (subscriptions_[i].active) {
-      hub_.count_subscription(static_cast<TopicId>(i), subscriptions_[i].binary, -1);
-    }
+    if (subscriptions_[i].active) release_locked(static_cast<TopicId>(i), subscriptions_[i]);
   }
+}
+
+void StreamSession::release_locked(TopicId topic, const Subscription& subscription) {
+  hub_.count_subscription(topic, subscription.binary, -1);
+  if (subscription.quality_cap > 0) hub_.count_camera_quality(subscription.quality_cap, -1);
 }
 
 void StreamSession::start() {
@@ -75,7 +85,7 @@ void StreamSession::take_locked(TopicId topic, const SharedFrame& frame) {
   Subscription& subscription = subscriptions_[i];
   if (!subscription.active) return;
   const auto& bytes = subscription.binary && frame.binary ? frame.binary : frame.json;
-  if (!bytes) return;
+  if (!bytes || !serves_quality(subscription.quality_cap, frame)) return;
   if (subscription.min_interval_us > 0 &&
       frame.wall_us - subscription.last_sent_wall_us <
           static_cast<std::int64_t>(kRateTolerance * subscription.min_interval_us)) {
@@ -240,6 +250,7 @@ void StreamSession::subscribe(const nlohmann::json& request) {
     const double rate_hz = require_number(request, "max_rate_hz", 0.1, 1000.0);
     min_interval_us = static_cast<std::int64_t>(1e6 / rate_hz);
   }
+  const int camera_quality = optional_integer(request, "camera_quality", 1, 100).value_or(0);
 
   nlohmann::json accepted = nlohmann::json::array();
   std::vector<std::string> unknown;
@@ -254,10 +265,13 @@ void StreamSession::subscribe(const nlohmann::json& request) {
     {
       std::lock_guard lock(mutex_);
       Subscription& subscription = subscriptions_[topic_index(*topic)];
-      if (subscription.active) hub_.count_subscription(*topic, subscription.binary, -1);
-      subscription = {true, topic_binary, topic_spec(*topic).sampled ? min_interval_us : 0, 0};
+      if (subscription.active) release_locked(*topic, subscription);
+      const int quality_cap = *topic == TopicId::kCamera ? camera_quality : 0;
+      subscription = {true, topic_binary, topic_spec(*topic).sampled ? min_interval_us : 0, 0,
+                      quality_cap};
+      hub_.count_subscription(*topic, topic_binary, +1);
+      if (quality_cap > 0) hub_.count_camera_quality(quality_cap, +1);
     }
-    hub_.count_subscription(*topic, topic_binary, +1);
     wants_map = wants_map || *topic == TopicId::kMap;
     accepted.push_back(name);
   }
@@ -288,7 +302,7 @@ void StreamSession::unsubscribe(const nlohmann::json& request) {
     std::lock_guard lock(mutex_);
     Subscription& subscription = subscriptions_[topic_index(*topic)];
     if (!subscription.active) continue;
-    hub_.count_subscription(*topic, subscription.binary, -1);
+    release_locked(*topic, subscription);
     subscription = {};
     topic_queues_[topic_index(*topic)].clear();
     removed.push_back(name);

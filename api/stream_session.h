@@ -45,6 +45,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
     bool binary = false;
     std::int64_t min_interval_us = 0;
     std::int64_t last_sent_wall_us = 0;
+    int quality_cap = 0;  // camera: the JPEG quality this client takes at most (0: the camera's)
   };
 
   using Clock = std::chrono::steady_clock;
@@ -63,6 +64,8 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   void reply_error(const std::string& code, const std::string& message);
   void queue_control(std::shared_ptr<const std::string> frame);
   void take_locked(TopicId topic, const SharedFrame& frame);
+  // Ends a subscription's share in the hub's counts (the caller clears or replaces it).
+  void release_locked(TopicId topic, const Subscription& subscription);
   void write_pending();
   void write_locked(std::unique_lock<std::mutex>& lock);
   bool gather_locked();

@@ -17,8 +17,10 @@ echo "== thread sanitizer: the api and server unit tests (stream hub, sessions, 
 # A build of its own: the network threads, the control loop and the workers share no lock, and
 # this keeps it so.
 mkdir -p build-tsan
+# The core is not instrumented (it runs on one thread at a time): the main build's is linked.
 if ! cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOBOT_TSAN=ON \
-    -DMOBOT_BUILD_BENCH=OFF >build-tsan/cmake-configure.log 2>&1; then
+    -DMOBOT_BUILD_BENCH=OFF -DMOBOT_CORE_LIBRARY="$ROOT/build/core/libmobot_core.a" \
+    >build-tsan/cmake-configure.log 2>&1; then
   cat build-tsan/cmake-configure.log >&2
   exit 1
 fi

@@ -144,6 +144,7 @@ void OpenCvCamera::keep(const cv::Mat& frame) {
   image.width = out.cols;
   image.height = out.rows;
   image.encoding = "jpeg";
+  image.jpeg_quality = options_.jpeg_quality;
   image.data = std::move(jpeg);
   const std::lock_guard lock(mutex_);
   newest_ = std::move(image);

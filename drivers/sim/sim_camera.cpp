@@ -46,6 +46,7 @@ void SimCamera::run(std::stop_token stop) {
     msgs::Image image;
     image.stamp_s = stamp_s;
     image.encoding = "jpeg";
+    image.jpeg_quality = jpeg_quality_;
     const cv::Mat pixels = job();
     image.width = pixels.cols;
     image.height = pixels.rows;

@@ -57,6 +57,29 @@ TEST_F(CameraRobotTest, DescribesTheCameraAndServesJpegFrames) {
   ASSERT_TRUE(frame.has_value());
   EXPECT_GT(frame->payload.size(), 5000u);
   EXPECT_EQ(anonymous().get("/api/v1/camera/snapshot").status, 401);
+
+  // A client on a thin link caps the JPEG quality (the camera's own is 80): the same frames,
+  // compressed again, markedly smaller.
+  WsClient thin(port(), viewer_token());
+  thin.send(json{{"op", "subscribe"}, {"topics", {"camera"}}, {"encoding", "binary"},
+                 {"camera_quality", 20}});
+  const auto mean_bytes = [](WsClient& client) {
+    std::size_t bytes = 0;
+    for (int i = 0; i < 6; ++i) {
+      const auto jpeg = client.read_binary(std::chrono::seconds(5));
+      if (!jpeg) return std::size_t{0};
+      bytes += jpeg->payload.size();
+    }
+    return bytes / 6;
+  };
+  const std::size_t full_bytes = mean_bytes(stream);
+  const std::size_t thin_bytes = mean_bytes(thin);
+  ASSERT_GT(thin_bytes, 0u) << "the capped client got no frames";
+  EXPECT_LT(thin_bytes, full_bytes * 7 / 10) << full_bytes;
+  thin.send(json{{"op", "subscribe"}, {"topics", {"camera"}}, {"camera_quality", 0}});
+  const auto refused = thin.read_until("error");
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->at("code"), "invalid_field");
 }
 
 TEST_F(CameraRobotTest, BadRequestsGetTheContractsErrorsAndChangeNothing) {

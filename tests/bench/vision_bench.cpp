@@ -2,18 +2,21 @@
 // crossing a textured, noisy scene (target < 10 ms, the source ran 7-10 fps on 2010 hardware), and
 // E2's omni landmark bearing (unwarp + threshold + open + Hough) on a 480 x 480 omni frame with
 // two red cylinders (target < 10 ms, E2 fuses at 10 Hz). Also the one-off cost of the unwarping
-// maps.
+// maps. And the stream's camera_quality cap: one 640 x 480 frame of the camera (JPEG 80)
+// compressed again at 30, which the hub does once per frame and cap in use.
 //   cmake --build build --target mobot_bench && ./build/tests/bench/mobot_bench
 //   --benchmark_filter=Vision
 
 #include <benchmark/benchmark.h>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
 #include <numbers>
 #include <vector>
 
+#include "core/vision/jpeg_requality.h"
 #include "core/vision/omni_camera_model.h"
 #include "core/vision/omni_landmark_bearing.h"
 #include "core/vision/target_tracker.h"
@@ -84,6 +87,20 @@ void BM_VisionTargetTrackerFrame640x480(benchmark::State& state) {
   state.counters["tracking_fraction"] = updates > 0 ? static_cast<double>(tracking) / updates : 0.0;
 }
 BENCHMARK(BM_VisionTargetTrackerFrame640x480)->Unit(benchmark::kMillisecond);
+
+void BM_VisionJpegRequality640x480(benchmark::State& state) {
+  std::vector<std::uint8_t> jpeg;
+  cv::imencode(".jpg", tracking_frames(1).front(), jpeg, {cv::IMWRITE_JPEG_QUALITY, 80});
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    const auto smaller = requality_jpeg(jpeg, 30);
+    bytes = smaller ? smaller->size() : 0;
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.counters["bytes_80"] = static_cast<double>(jpeg.size());
+  state.counters["bytes_30"] = static_cast<double>(bytes);
+}
+BENCHMARK(BM_VisionJpegRequality640x480)->Unit(benchmark::kMillisecond);
 
 // Floor and wall bands in grey with noise, and two red cylinders (2 m and 4 m away).
 cv::Mat omni_frame(const OmniCameraModel& model) {

@@ -190,6 +190,36 @@ export async function cameraSteps(t) {
       return `${info.kind} ${info.width}x${info.height}; ${moved} of ${first.values.length} samples changed ${how}; ${rate.toFixed(1)} frames/s; none while hidden`;
     });
 
+    await step('camera: a lower quality chosen in the card streams smaller frames (camera_quality), and back', async () => {
+      ready();
+      const meanBytes = async () => {
+        const sizes = [];
+        let last = -1;
+        const t0 = Date.now();
+        while (sizes.length < 5 && Date.now() - t0 < 5000) {
+          const state = await hook();
+          if (state.framesDecoded !== last && state.lastFrameBytes > 0) sizes.push(state.lastFrameBytes);
+          last = state.framesDecoded;
+          await sleep(150);
+        }
+        if (sizes.length < 3) throw new Error(`only ${sizes.length} frames in 5 s`);
+        return sizes.reduce((a, b) => a + b, 0) / sizes.length;
+      };
+      const full = await meanBytes();
+      await page.selectOption('[data-testid=camera-quality]', '10');
+      await sleep(600); // frames already on the way
+      const thin = await meanBytes();
+      if ((await hook()).quality !== 10) throw new Error('the card did not take the quality');
+      if (!(thin < 0.6 * full)) throw new Error(`frames of ${thin.toFixed(0)} B at quality 10 against ${full.toFixed(0)} B at the camera's`);
+      const shown = await page.textContent('[data-testid=camera-bytes]');
+      if (!/kB a frame/.test(shown ?? '')) throw new Error(`the card shows "${shown}" for the frame size`);
+      await page.selectOption('[data-testid=camera-quality]', '0');
+      await sleep(600);
+      const back = await meanBytes();
+      if (!(back > 0.8 * full)) throw new Error(`back at the camera's quality: ${back.toFixed(0)} B against ${full.toFixed(0)} B`);
+      return `${(full / 1024).toFixed(1)} kB a frame at the camera's quality, ${(thin / 1024).toFixed(1)} kB at 10, ${(back / 1024).toFixed(1)} kB back`;
+    });
+
     await step('camera: pan/tilt jogs move the head 5° within its limits; the centre button brings it back', async () => {
       ready();
       if (info.kind !== 'pan_tilt') throw new Skip(`the camera is ${info.kind}, not pan_tilt`);

@@ -60,6 +60,10 @@ export class CameraPanel {
   lastError: string | null = null;
   /** The camera topic is subscribed on the current connection. */
   subscribed = false;
+  /** The JPEG quality cap asked of the stream (camera_quality), 0 for the camera's own. */
+  quality = 0;
+  /** The size of the last frame received, bytes. */
+  lastFrameBytes = 0;
   readonly queue: LatestFrameQueue<ImageBitmap>;
   private readonly canvas: HTMLCanvasElement;
   private readonly ctx: CanvasRenderingContext2D;
@@ -94,6 +98,7 @@ export class CameraPanel {
     for (const direction of JOG_DIRECTIONS) {
       document.querySelector(`[data-jog=${direction}]`)?.addEventListener('click', () => void this.jog(direction));
     }
+    byId<HTMLSelectElement>('camera-quality').addEventListener('change', (e) => this.setQuality(Number((e.target as HTMLSelectElement).value)));
     byId('tracking-stop').addEventListener('click', () => void this.stopTracking());
     byId('follow-form').addEventListener('submit', (e) => {
       e.preventDefault();
@@ -185,7 +190,7 @@ export class CameraPanel {
     const wanted = this.available && this.visible && this.topics.includes('camera') && this.hooks.connected();
     if (wanted && !this.subscribed) {
       this.queue.resume();
-      this.subscribed = this.hooks.send({ op: 'subscribe', topics: ['camera'], encoding: 'binary', max_rate_hz: CAMERA_MAX_RATE_HZ });
+      this.subscribed = this.hooks.send(this.subscription());
     } else if (!wanted && this.subscribed) {
       this.hooks.send({ op: 'unsubscribe', topics: ['camera'] });
       this.subscribed = false;
@@ -194,12 +199,25 @@ export class CameraPanel {
     this.renderCard();
   }
 
+  private subscription(): Record<string, unknown> {
+    const request: Record<string, unknown> = { op: 'subscribe', topics: ['camera'], encoding: 'binary', max_rate_hz: CAMERA_MAX_RATE_HZ };
+    if (this.quality > 0) request.camera_quality = this.quality;
+    return request;
+  }
+
+  /** A new quality cap: subscribing again replaces the subscription's. */
+  private setQuality(quality: number): void {
+    this.quality = Number.isInteger(quality) && quality >= 1 && quality <= 100 ? quality : 0;
+    if (this.subscribed) this.subscribed = this.hooks.send(this.subscription());
+  }
+
   // ---- stream data ----
 
   /** A camera frame (JPEG bytes). */
   onFrame(jpeg: Uint8Array): void {
     if (!this.available || !this.subscribed) return;
     this.lastFrameAt = performance.now();
+    this.lastFrameBytes = jpeg.byteLength;
     this.queue.push(jpeg);
   }
 
@@ -522,6 +540,7 @@ export class CameraPanel {
     const infoLine = byId('camera-info');
     infoLine.textContent = `${info.kind.replace('_', '/')} · ${size} · ${fmt(rate, 0)} Hz`;
     infoLine.title = `camera ${info.kind}, ${size} px, ${fmt(info.rate_hz, 1)} Hz at the robot, at most ${CAMERA_MAX_RATE_HZ} Hz streamed here; ${this.queue.decoded} frames decoded, ${this.queue.dropped} skipped while decoding`;
+    byId('camera-bytes').textContent = this.lastFrameBytes > 0 ? `${fmt(this.lastFrameBytes / 1024, 0)} kB a frame` : '';
     const stale = byId('camera-stale');
     const age = this.lastFrameAt ? performance.now() - this.lastFrameAt : Infinity;
     stale.hidden = this.subscribed && age < STALE_MS;

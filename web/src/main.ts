@@ -105,6 +105,8 @@ export interface MobotHooks {
     available: boolean;
     kind: string | null;
     subscribed: boolean;
+    quality: number;
+    lastFrameBytes: number;
     framesDrawn: number;
     framesDecoded: number;
     framesDropped: number;
@@ -413,6 +415,8 @@ window.__mobot = {
       available: camera.available,
       kind: camera.info?.kind ?? null,
       subscribed: camera.subscribed,
+      quality: camera.quality,
+      lastFrameBytes: camera.lastFrameBytes,
       framesDrawn: camera.framesDrawn,
       framesDecoded: camera.queue.decoded,
       framesDropped: camera.queue.dropped,

@@ -2,7 +2,8 @@
 // in order, flushes during a running write pass are neither reordered nor lost at the newest frame,
 // a client that stops reading is bounded and holds nobody back, and closed sessions leave the hub.
 // Teleop replies come from the port's Completion on any thread; silent clients are pinged, then
-// closed for idleness; a map is encoded outside the hub's lock.
+// closed for idleness; a map is encoded outside the hub's lock; a camera client that caps the
+// JPEG quality gets the frames compressed again, once per quality asked, with the camera's seq.
 #include <gtest/gtest.h>
 #include <sys/socket.h>
 
@@ -20,6 +21,9 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "api/frame_codec.h"
 #include "api/stream_hub.h"
@@ -367,6 +371,84 @@ TEST_F(StreamHubTest, AMapSubscriberGetsTheLatestMapAndEveryNewOne) {
             *hub_.latest_map_frame(true).binary);
   EXPECT_NE(hub_.latest_map_frame(true).binary, latest.binary);
   EXPECT_TRUE(hub_.latest_map_frame(false).json) << "and in JSON for a JSON subscriber";
+}
+
+// A textured 320 x 240 frame as a camera driver hands it over.
+msgs::Image camera_frame(double t_s, int quality) {
+  cv::Mat pixels(240, 320, CV_8UC3);
+  cv::randu(pixels, cv::Scalar::all(0), cv::Scalar::all(255));
+  msgs::Image image;
+  image.stamp_s = t_s;
+  image.width = pixels.cols;
+  image.height = pixels.rows;
+  image.encoding = "jpeg";
+  image.jpeg_quality = quality;
+  cv::imencode(".jpg", pixels, image.data, {cv::IMWRITE_JPEG_QUALITY, quality});
+  return image;
+}
+
+// The next binary frame's seq and body (the JPEG), or nullopt.
+std::optional<std::pair<std::uint64_t, std::string>> next_binary(Client& client) {
+  std::optional<Frame> frame;
+  while ((frame = client.read()) && frame->opcode != 0x2) {
+  }
+  if (!frame) return std::nullopt;
+  std::uint64_t seq = 0;
+  std::memcpy(&seq, frame->payload.data() + 8, sizeof seq);
+  return std::pair{seq, frame->payload.substr(kBinaryHeaderBytes)};
+}
+
+TEST_F(StreamHubTest, ACameraClientGetsTheQualityItCappedAt) {
+  auto full = connect(R"("camera")");
+  auto capped = open();
+  capped->send_text(R"({"op":"subscribe","topics":["camera"],"camera_quality":20})");
+  ASSERT_TRUE(capped->read_until(R"("op":"subscribed")"));
+  auto also_capped = open();
+  also_capped->send_text(R"({"op":"subscribe","topics":["camera"],"camera_quality":20})");
+  ASSERT_TRUE(also_capped->read_until(R"("op":"subscribed")"));
+  auto above = open();  // a cap above the camera's own quality changes nothing
+  above->send_text(R"({"op":"subscribe","topics":["camera"],"camera_quality":95})");
+  ASSERT_TRUE(above->read_until(R"("op":"subscribed")"));
+
+  const msgs::Image image = camera_frame(1.0, 90);
+  const std::string original(image.data.begin(), image.data.end());
+  for (int tick = 1; tick <= 3; ++tick) {
+    hub_.publish_camera(image);
+    hub_.flush();
+    for (Client* client : {full.get(), above.get()}) {
+      const auto frame = next_binary(*client);
+      ASSERT_TRUE(frame.has_value()) << "tick " << tick;
+      EXPECT_EQ(frame->first, static_cast<std::uint64_t>(tick));
+      EXPECT_EQ(frame->second, original);
+    }
+    const auto low = next_binary(*capped);
+    const auto low_too = next_binary(*also_capped);
+    ASSERT_TRUE(low.has_value() && low_too.has_value()) << "tick " << tick;
+    EXPECT_EQ(low->first, static_cast<std::uint64_t>(tick)) << "the camera's seq, not a new one";
+    EXPECT_LT(low->second.size(), original.size() / 2);
+    EXPECT_EQ(low->second, low_too->second) << "compressed once for both";
+    const std::vector<std::uint8_t> bytes(low->second.begin(), low->second.end());
+    const cv::Mat decoded = cv::imdecode(bytes, cv::IMREAD_COLOR);
+    EXPECT_EQ(decoded.cols, 320);
+    EXPECT_EQ(decoded.rows, 240);
+  }
+}
+
+TEST_F(StreamHubTest, ABadQualityCapIsRefusedAndSubscribesNothing) {
+  auto client = open();
+  for (const std::string cap : {"0", "101", "50.5", R"("50")", "-3", "1e99"}) {
+    client->send_text(R"({"op":"subscribe","topics":["camera"],"camera_quality":)" + cap + "}");
+    EXPECT_TRUE(client->read_until(R"("code":"invalid_field")")) << cap;
+  }
+  client->send_text(R"({"op":"subscribe","topics":["pose"]})");
+  ASSERT_TRUE(client->read_until(R"("op":"subscribed")"));
+  hub_.publish_camera(camera_frame(1.0, 90));
+  hub_.publish_pose(1.0, {}, {}, {});
+  hub_.flush();
+  const auto frame = client->read();
+  ASSERT_TRUE(frame.has_value());
+  EXPECT_EQ(frame->opcode, 0x1U) << "no camera frame: the refused subscriptions took nothing";
+  EXPECT_NE(frame->payload.find(R"("topic":"pose")"), std::string::npos) << frame->payload;
 }
 
 TEST_F(StreamHubTest, APublishedMapIsEncodedOutsideTheHubLock) {
