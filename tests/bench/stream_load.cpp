@@ -63,6 +63,7 @@ std::size_t slot_of(std::string_view name) {
 struct TopicStats {
   std::uint64_t frames = 0;
   std::uint64_t lost = 0;
+  std::uint64_t bytes = 0;  // frame payloads, headers included
   std::vector<std::int32_t> latency_us;
 };
 
@@ -267,6 +268,7 @@ class Reader {
     if (measuring_.load(std::memory_order_relaxed)) {
       TopicStats& stats = stats_[slot];
       ++stats.frames;
+      stats.bytes += payload.size();
       if (last > 0 && seq > last + 1) stats.lost += static_cast<std::uint64_t>(seq - last - 1);
       stats.latency_us.push_back(static_cast<std::int32_t>(now_us - wall_us));
     }
@@ -339,6 +341,7 @@ int main(int argc, char** argv) {
   int pid = 0;
   std::string topics = "pose,scan";
   std::string encoding = "binary";
+  int camera_quality = 0;
   cli.add_option("--port", port)->required();
   cli.add_option("--token", token)->required();
   cli.add_option("--clients", clients)->check(CLI::Range(1, 20000));
@@ -350,6 +353,9 @@ int main(int argc, char** argv) {
   cli.add_option("--pid", pid, "mobotd's pid, to report its CPU use");
   cli.add_option("--topics", topics, "comma-separated topics");
   cli.add_option("--encoding", encoding)->check(CLI::IsMember({"binary", "json"}));
+  cli.add_option("--camera-quality", camera_quality,
+                 "the JPEG quality cap of the camera frames (camera_quality), 0: the camera's")
+      ->check(CLI::Range(0, 100));
   CLI11_PARSE(cli, argc, argv);
 
   std::string topic_list;
@@ -357,8 +363,10 @@ int main(int argc, char** argv) {
   for (std::string topic; std::getline(split, topic, ',');) {
     topic_list += (topic_list.empty() ? "\"" : ",\"") + topic + "\"";
   }
-  const std::string subscribe =
-      R"({"op":"subscribe","topics":[)" + topic_list + R"(],"encoding":")" + encoding + "\"}";
+  const std::string quality =
+      camera_quality > 0 ? R"(,"camera_quality":)" + std::to_string(camera_quality) : "";
+  const std::string subscribe = R"({"op":"subscribe","topics":[)" + topic_list +
+                                R"(],"encoding":")" + encoding + "\"" + quality + "}";
   const std::string upgrade =
       "GET /api/v1/stream?token=" + token +
       " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
@@ -420,6 +428,7 @@ int main(int argc, char** argv) {
       auto& from = reader->stats()[slot];
       totals[slot].frames += from.frames;
       totals[slot].lost += from.lost;
+      totals[slot].bytes += from.bytes;
       totals[slot].latency_us.insert(totals[slot].latency_us.end(), from.latency_us.begin(),
                                      from.latency_us.end());
     }
@@ -437,7 +446,9 @@ int main(int argc, char** argv) {
     std::cout << "topic " << kTopicNames[slot] << " frames " << stats.frames << " per_client_hz "
               << rate_hz << " lost " << stats.lost << " loss_pct " << loss_pct << " latency_ms p50 "
               << percentile(stats.latency_us, 0.50) << " p99 " << percentile(stats.latency_us, 0.99)
-              << " max " << percentile(stats.latency_us, 1.0) << "\n";
+              << " max " << percentile(stats.latency_us, 1.0) << " mean_frame_kb "
+              << static_cast<double>(stats.bytes) / static_cast<double>(stats.frames) / 1024.0
+              << "\n";
   }
   if (pid > 0) {
     std::cout << "server_cpu_pct_of_one_core " << 100.0 * server_cpu_s / elapsed_s << "\n";
