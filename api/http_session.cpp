@@ -5,19 +5,26 @@
 #include <chrono>
 
 #include "api/stream_session.h"
+#include "api/wall_clock.h"
 #include "api/websocket_frames.h"
 
 namespace mobot::api {
 namespace {
 
 constexpr auto kIdleTimeout = std::chrono::seconds(60);
-constexpr std::size_t kHeaderLimit = 16 * 1024;
+constexpr std::size_t kHeaderLimit = kMaxRequestHeaderBytes;
 
 }  // namespace
 
 HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
                          const Ports& ports)
-    : stream_(std::move(socket)), rest_(rest), hub_(hub), ports_(ports) {}
+    : stream_(std::move(socket)), rest_(rest), hub_(hub), ports_(ports) {
+  boost::system::error_code error;
+  const auto peer = stream_.socket().remote_endpoint(error);
+  if (!error) client_.address = peer.address().to_string() + ":" + std::to_string(peer.port());
+  registration_ = hub_.clients().open(client_.address, unix_now_s());
+  client_.id = registration_->id();
+}
 
 void HttpSession::start() {
   boost::asio::dispatch(stream_.get_executor(),
@@ -95,14 +102,17 @@ void HttpSession::answer(const Request& request) {
   // The robot may take its time (a plan, a commit): that is not the client being idle, and nothing
   // is read from it meanwhile. The timer starts again with the write.
   stream_.expires_never();
-  rest_.handle(request, [self = shared_from_this()](Response response) {
-    // Any thread; the session lives until the response is written from its strand.
-    boost::asio::dispatch(self->stream_.get_executor(),
-                          [self, response = std::move(response)]() mutable {
-                            const bool close_after = !response.keep_alive();
-                            self->send(std::move(response), close_after);
-                          });
-  });
+  rest_.handle(
+      request,
+      [self = shared_from_this()](Response response) {
+        // Any thread; the session lives until the response is written from its strand.
+        boost::asio::dispatch(self->stream_.get_executor(),
+                              [self, response = std::move(response)]() mutable {
+                                const bool close_after = !response.keep_alive();
+                                self->send(std::move(response), close_after);
+                              });
+      },
+      client_);
 }
 
 void HttpSession::send(Response response, bool close_after) {
@@ -111,7 +121,8 @@ void HttpSession::send(Response response, bool close_after) {
   stream_.expires_after(kIdleTimeout);
   http::async_write(stream_, *shared,
                     [self = shared_from_this(), shared, close_after](boost::beast::error_code error,
-                                                                     std::size_t) {
+                                                                     std::size_t bytes) {
+                      self->registration_->add_sent(bytes);
                       if (error || close_after) {
                         self->close();
                         return;
@@ -125,8 +136,8 @@ void HttpSession::upgrade_to_stream(const Request& request) {
     send(error_response(request, 404, "not_found", "WebSocket is served at /api/v1/stream"), true);
     return;
   }
-  const auto role = rest_.stream_role(request);
-  if (!role) {
+  const auto caller = rest_.stream_caller(request);
+  if (!caller) {
     rest_.count_response(401);
     send(error_response(request, 401, "unauthorized", "missing or unknown ?token="), true);
     return;
@@ -145,17 +156,21 @@ void HttpSession::upgrade_to_stream(const Request& request) {
   stream_.expires_never();
   boost::asio::async_write(
       stream_, boost::asio::buffer(*handshake),
-      [self = shared_from_this(), handshake, role = *role](boost::beast::error_code error,
-                                                           std::size_t) {
+      [self = shared_from_this(), handshake, caller = *caller](boost::beast::error_code error,
+                                                               std::size_t) {
         if (error) {
           self->close();
           return;
         }
         const auto pending = self->buffer_.data();
         std::string already_received(static_cast<const char*>(pending.data()), pending.size());
-        auto session =
-            std::make_shared<StreamSession>(self->stream_.release_socket(), self->hub_,
-                                            self->ports_, role, std::move(already_received));
+        // The same connection, now a stream: it keeps its registration.
+        self->registration_->became_stream();
+        self->registration_->identify(caller);
+        auto session = std::make_shared<StreamSession>(
+            self->stream_.release_socket(), self->hub_, self->ports_,
+            StreamPeer{caller, self->client_, std::move(self->registration_)},
+            std::move(already_received));
         session->start();
       });
 }

@@ -39,6 +39,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   RestApi& rest_;
   StreamHub& hub_;
   Ports ports_;
+  ClientRegistry::Registration registration_;
+  ClientContext client_;
 };
 
 }  // namespace mobot::api

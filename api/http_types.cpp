@@ -1,5 +1,6 @@
 #include "api/http_types.h"
 
+#include <cctype>
 #include <cstdlib>
 
 namespace mobot::api {
@@ -92,6 +93,17 @@ std::string query_parameter(std::string_view target, std::string_view name) {
     query.remove_prefix(amp + 1);
   }
   return {};
+}
+
+std::string bearer_token(const Request& request) {
+  const auto header = request[http::field::authorization];
+  constexpr std::string_view kPrefix = "bearer ";
+  if (header.size() <= kPrefix.size()) return {};
+  // RFC 7235: the scheme name is case-insensitive.
+  for (std::size_t i = 0; i < kPrefix.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(header[i])) != kPrefix[i]) return {};
+  }
+  return std::string(header.substr(kPrefix.size()));
 }
 
 }  // namespace mobot::api

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -13,6 +14,10 @@ namespace mobot::api {
 namespace http = boost::beast::http;
 using Request = http::request<http::string_body>;
 using Response = http::response<http::string_body>;
+
+// The largest request header the server reads (431 beyond it); the body's limit depends on the
+// endpoint (RestApi::body_limit).
+inline constexpr std::size_t kMaxRequestHeaderBytes = 16 * 1024;
 
 Response json_response(const Request& request, http::status status, const nlohmann::json& body);
 Response error_response(const Request& request, int status, const std::string& code,
@@ -29,6 +34,8 @@ Response no_content_response(const Request& request);
 // The target split into its path and the value of one query parameter (percent-decoded).
 std::string_view target_path(std::string_view target);
 std::string query_parameter(std::string_view target, std::string_view name);
+// The token of an "Authorization: Bearer TOKEN" header (the scheme in any case), or "".
+std::string bearer_token(const Request& request);
 std::string percent_decode(std::string_view text);
 
 }  // namespace mobot::api

@@ -26,17 +26,6 @@ std::vector<std::string_view> split_path(std::string_view path) {
   return segments;
 }
 
-std::string bearer_token(const Request& request) {
-  const auto header = request[http::field::authorization];
-  constexpr std::string_view kPrefix = "bearer ";
-  if (header.size() <= kPrefix.size()) return {};
-  // RFC 7235: the scheme name is case-insensitive.
-  for (std::size_t i = 0; i < kPrefix.size(); ++i) {
-    if (std::tolower(static_cast<unsigned char>(header[i])) != kPrefix[i]) return {};
-  }
-  return std::string(header.substr(kPrefix.size()));
-}
-
 [[noreturn]] void method_not_allowed() {
   throw ApiError(405, "method_not_allowed", "this method is not allowed on this path");
 }
@@ -61,12 +50,18 @@ std::size_t RestApi::body_limit(http::verb method, std::string_view target) {
   return kDefaultBodyLimit;
 }
 
-void RestApi::handle(const Request& request, Responder respond) {
-  const Replier reply(request, [this, respond = std::move(respond)](Response response) {
-    count_response(response.result_int());
-    respond(std::move(response));
+void RestApi::handle(const Request& request, Responder respond, ClientContext client) {
+  const Replier reply(
+      request,
+      [this, respond = std::move(respond)](Response response) {
+        count_response(response.result_int());
+        respond(std::move(response));
+      },
+      std::move(client));
+  reply.answer([&] {
+    identify_client(request, reply.client());
+    return dispatch(request, reply);
   });
-  reply.answer([&] { return dispatch(request, reply); });
 }
 
 Handled RestApi::dispatch(const Request& request, const Replier& reply) {
@@ -82,20 +77,20 @@ void RestApi::count_response(unsigned status) {
   responses_by_class_[status_class].fetch_add(1, std::memory_order_relaxed);
 }
 
-Role RestApi::require_role(const Request& request, Role needed) const {
+Caller RestApi::require_role(const Request& request, Role needed) const {
   const std::string token = bearer_token(request);
   if (token.empty()) throw ApiError(401, "unauthorized", "missing bearer token");
-  const auto role = ports_.tokens.authenticate(token);
-  if (!role) throw ApiError(401, "unauthorized", "unknown token");
-  if (*role < needed) {
+  const auto caller = ports_.tokens.authenticate(token);
+  if (!caller) throw ApiError(401, "unauthorized", "unknown token");
+  if (caller->role < needed) {
     throw ApiError(
         403, "forbidden",
         needed == Role::kAdmin ? "this needs the admin role" : "this needs the operator role");
   }
-  return *role;
+  return *caller;
 }
 
-std::optional<Role> RestApi::stream_role(const Request& request) const {
+std::optional<Caller> RestApi::stream_caller(const Request& request) const {
   const std::string token = query_parameter(request.target(), "token");
   if (token.empty()) return std::nullopt;
   return ports_.tokens.authenticate(token);
@@ -143,6 +138,12 @@ Handled RestApi::route(const Request& request, const Segments& path, const Repli
     require_role(request, Role::kOperator);
     return teleop(request, reply);
   }
+  if (resource == "operator") return route_operator(request, path, reply);
+  if (resource == "clients" && path.size() == 3) {
+    if (method != http::verb::get) method_not_allowed();
+    require_role(request, Role::kAdmin);
+    return list_clients(request);
+  }
   if (resource == "estop") {
     if (method != http::verb::post) method_not_allowed();
     require_role(request, Role::kOperator);
@@ -165,6 +166,7 @@ Response RestApi::robot(const Request& request) const {
 
 Handled RestApi::teleop(const Request& request, const Replier& reply) {
   const TeleopRequest command = parse_teleop(parse_json_body(request.body()));
+  require_driver(request, reply);
   ports_.control.teleop(
       command.twist, command.ttl_ms,
       reply.completion<msgs::Twist>([](const Request& head, const msgs::Twist& applied) {

@@ -31,10 +31,12 @@ class RestApi {
  public:
   RestApi(const Ports& ports, StreamHub& hub, RestOptions options);
 
-  // Sends the response to `request` through `respond`, exactly once, now or later.
-  void handle(const Request& request, Responder respond);
-  // The role a stream upgrade request authenticates as (?token=), or nullopt.
-  std::optional<Role> stream_role(const Request& request) const;
+  // Sends the response to `request` through `respond`, exactly once, now or later. `client`: the
+  // connection it came on (who holds the operator lock, who is connected).
+  void handle(const Request& request, Responder respond, ClientContext client = {});
+  // Who a stream upgrade request authenticates as (?token=), or nullopt.
+  std::optional<Caller> stream_caller(const Request& request) const;
+
   // The largest body accepted for a request line, checked before the body is read.
   static std::size_t body_limit(http::verb method, std::string_view target);
   // The largest body_limit() of any request (map import).
@@ -69,7 +71,14 @@ class RestApi {
   CameraDescription require_camera() const;
   Response route_sweep(const Request& request, const Segments& path);
   Response serve_static(const Request& request, std::string_view path) const;
-  Role require_role(const Request& request, Role needed) const;
+  Caller require_role(const Request& request, Role needed) const;
+  // A driving command (teleop, goals, follow): the operator role and the operator lock, which a
+  // free lock gives at once; kConflict operator_busy while somebody else holds it.
+  void require_driver(const Request& request, const Replier& reply);
+  Response route_operator(const Request& request, const Segments& path, const Replier& reply);
+  // The connection learns who its client is from any request that authenticates.
+  void identify_client(const Request& request, const ClientContext& client);
+  Response list_clients(const Request& request) const;
 
   Response health(const Request& request) const;
   Response robot(const Request& request) const;
@@ -108,6 +117,7 @@ class RestApi {
   StreamHub& hub_;
   RestOptions options_;
   std::array<std::atomic<std::uint64_t>, 6> responses_by_class_{};
+
 };
 
 std::optional<std::int64_t> parse_id(std::string_view text);

@@ -138,6 +138,7 @@ Handled RestApi::route_follow(const Request& request, const Segments& path,
     require_camera();
     const double distance_m =
         require_number(parse_json_body(request.body()), "distance_m", 0.5, 5.0);
+    require_driver(request, reply);
     ports_.camera.start_follow(distance_m, reply.completion<Done>(answer(true)));
     return kReplyLater;
   }

@@ -98,6 +98,7 @@ Handled RestApi::route_goals(const Request& request, const Segments& path, const
 
 Handled RestApi::submit_goal(const Request& request, const Replier& reply) {
   const GoalRequest goal_request = parse_goal(parse_json_body(request.body()), ports_.control);
+  require_driver(request, reply);
   ports_.control.submit_goal(
       goal_request,
       reply.completion<navigation::Goal>([](const Request& head, const navigation::Goal& goal) {
@@ -120,6 +121,7 @@ Handled RestApi::route_goal(const Request& request, std::string_view id_text,
   if (method == http::verb::delete_) {
     require_role(request, Role::kOperator);
     if (!id) unknown_goal();
+    // Stopping is never locked, as e-stop is not: whoever sees a goal go wrong may end it.
     ports_.control.cancel_goal(
         *id,
         reply.completion<navigation::Goal>([](const Request& head, const navigation::Goal& goal) {

@@ -12,8 +12,8 @@ Request head_of(const Request& request) {
 
 }  // namespace
 
-Replier::Replier(const Request& request, Responder respond)
-    : state_(std::make_shared<State>(head_of(request), std::move(respond))) {}
+Replier::Replier(const Request& request, Responder respond, ClientContext client)
+    : state_(std::make_shared<State>(head_of(request), std::move(respond), std::move(client))) {}
 
 void Replier::send(Response response) const noexcept {
   if (state_->answered.exchange(true)) return;

@@ -1,10 +1,12 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "api/api_error.h"
@@ -12,6 +14,12 @@
 #include "api/ports/result.h"
 
 namespace mobot::api {
+
+// The connection a request came on: its id (unique in this process) and the peer's address.
+struct ClientContext {
+  std::uint64_t id = 0;
+  std::string address;
+};
 
 // Takes the one response to a request. Called once, from any thread.
 using Responder = std::function<void(Response)>;
@@ -26,10 +34,11 @@ inline constexpr std::nullopt_t kReplyLater = std::nullopt;
 // control loop, a worker, the recorder's writer), which must not see HTTP's failures.
 class Replier {
  public:
-  Replier(const Request& request, Responder respond);
+  Replier(const Request& request, Responder respond, ClientContext client = {});
 
   // The request line a deferred response is built for: version and keep-alive, no body.
   const Request& head() const { return state_->head; }
+  const ClientContext& client() const { return state_->client; }
 
   // Runs `handle` and sends the response it returns or the error it throws.
   template <class Handle>
@@ -42,8 +51,13 @@ class Replier {
 
  private:
   struct State {
+    // Spelt out: clang before 16 does not make an aggregate from make_shared's parentheses.
+    State(Request head_in, Responder respond_in, ClientContext client_in)
+        : head(std::move(head_in)), respond(std::move(respond_in)), client(std::move(client_in)) {}
+
     Request head;
     Responder respond;
+    ClientContext client;
     std::atomic<bool> answered{false};
   };
 

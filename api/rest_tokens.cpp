@@ -1,21 +1,10 @@
 #include "api/api_error.h"
 #include "api/json_request.h"
 #include "api/rest_api.h"
+#include "api/role_names.h"
 
 namespace mobot::api {
 namespace {
-
-std::string_view role_name(Role role) {
-  switch (role) {
-    case Role::kViewer:
-      return "viewer";
-    case Role::kOperator:
-      return "operator";
-    case Role::kAdmin:
-      return "admin";
-  }
-  return "viewer";
-}
 
 Role parse_role(const std::string& name) {
   if (name == "viewer") return Role::kViewer;

@@ -31,7 +31,10 @@ Response RestApi::serve_static(const Request& request, std::string_view path) co
   if (relative.find("..") != std::string::npos || relative.find('\0') != std::string::npos) {
     throw ApiError(404, "not_found", "no such file");
   }
-  const std::filesystem::path file = options_.web_dir / relative.substr(1);
+  // Joined as a relative path: "//etc/passwd" (or "/%2Fetc/passwd") would otherwise be absolute,
+  // and an absolute right-hand side makes path's operator/ drop web_dir altogether.
+  const std::filesystem::path file =
+      options_.web_dir / std::filesystem::path(relative).relative_path();
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) {
     if (relative == "/index.html") {

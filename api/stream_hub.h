@@ -13,7 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "api/camera_requality.h"
+#include "api/client_registry.h"
 #include "api/frame_codec.h"
+#include "api/operator_lock.h"
 #include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "api/ports/sim_control_port.h"
@@ -118,6 +120,11 @@ class StreamHub {
   const StreamOptions& options() const { return options_; }
   void close_all();
 
+  // Who drives: shared by the REST API and the stream sessions of every connection.
+  OperatorLock& operator_lock() { return operator_lock_; }
+  // Every open connection (GET /api/v1/clients).
+  ClientRegistry& clients() { return clients_; }
+
   void count_sent(std::uint64_t frames, std::uint64_t bytes);
   void count_dropped() { frames_dropped_.fetch_add(1, std::memory_order_relaxed); }
   std::string metrics_text() const;
@@ -177,6 +184,8 @@ class StreamHub {
   std::atomic<std::uint64_t> bytes_sent_{0};
   std::atomic<std::uint64_t> frames_dropped_{0};
   std::atomic<std::uint64_t> sessions_opened_{0};
+  OperatorLock operator_lock_;
+  ClientRegistry clients_;
 
   // Started when a client first caps the camera's quality; last, so that its thread (which
   // publishes) is joined before anything it uses goes.

@@ -4,9 +4,10 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 #include <cmath>
+#include <variant>
 
 #include "api/api_error.h"
-#include "api/json_request.h"
+#include "api/wall_clock.h"
 
 namespace mobot::api {
 namespace {
@@ -28,11 +29,11 @@ bool serves_quality(int cap, const SharedFrame& frame) {
 }  // namespace
 
 StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub,
-                             const Ports& ports, Role role, std::string already_received)
+                             const Ports& ports, StreamPeer peer, std::string already_received)
     : socket_(std::move(socket)),
       hub_(hub),
       ports_(ports),
-      role_(role),
+      peer_(std::move(peer)),
       parser_(hub.options().max_client_message_bytes),
       already_received_(std::move(already_received)),
       timer_(socket_.get_executor()),
@@ -63,11 +64,10 @@ void StreamSession::start() {
   boost::asio::post(socket_.get_executor(), [self = shared_from_this()] {
     self->queue_control(std::make_shared<const std::string>(
         encode_ws_frame(WsOpcode::kText, self->hub_.hello_frame())));
-    if (!self->already_received_.empty()) {
-      self->parser_.feed(self->already_received_);
-      self->already_received_.clear();
-      while (auto message = self->parser_.next()) self->handle_message(std::move(*message));
-    }
+    // Frames the client sent right behind its upgrade request came with it.
+    const std::string early = std::move(self->already_received_);
+    self->already_received_.clear();
+    if (!self->process_received(early)) return;
     self->read_more();
     self->watch_client();
   });
@@ -96,20 +96,31 @@ void StreamSession::take_locked(TopicId topic, const SharedFrame& frame) {
   if (queue.size() >= hub_.options().max_frames_per_topic) {
     queue.erase(queue.begin());
     hub_.count_dropped();
+    if (ClientRecord* record = peer_.registration.record().get()) record->add_dropped();
   }
   queue.push_back(bytes);
 }
 
 void StreamSession::close(std::uint16_t code, std::string reason) {
+  queue_close(encode_ws_close(code, reason));
+}
+
+void StreamSession::queue_close(std::string frame) {
   {
     std::lock_guard lock(mutex_);
     if (closing_) return;
     // Nothing may follow the close frame, and queued data frames would otherwise go after it.
     for (auto& queue : topic_queues_) queue.clear();
-    control_queue_.push_back(std::make_shared<const std::string>(encode_ws_close(code, reason)));
+    control_queue_.push_back(std::make_shared<const std::string>(std::move(frame)));
     closing_ = true;
   }
+  // Once it is written, write_locked() shuts the session down, which closes the TCP connection.
   write_pending();
+}
+
+bool StreamSession::is_closing() {
+  std::lock_guard lock(mutex_);
+  return closing_;
 }
 
 void StreamSession::read_more() {
@@ -122,14 +133,22 @@ void StreamSession::read_more() {
         }
         // Any bytes count, a pong or part of a long message alike: the client is there.
         self->last_heard_ = Clock::now();
-        self->parser_.feed({self->read_buffer_.data(), bytes});
-        while (auto message = self->parser_.next()) self->handle_message(std::move(*message));
-        if (self->parser_.failed()) {
-          self->close(self->parser_.error_code(), self->parser_.error_message());
-          return;
-        }
+        if (!self->process_received({self->read_buffer_.data(), bytes})) return;
+        // Reading goes on after a close frame (the parser ignores what follows it) so that a
+        // client that drops the connection before the reply is out releases the session.
         self->read_more();
       });
+}
+
+bool StreamSession::process_received(std::string_view bytes) {
+  parser_.feed(bytes);
+  while (auto message = parser_.next()) handle_message(std::move(*message));
+  if (parser_.failed()) {
+    // RFC 6455 7.1.7: fail the connection with the violation's code, reading nothing more.
+    close(parser_.error_code(), parser_.error_message());
+    return false;
+  }
+  return true;
 }
 
 void StreamSession::watch_client() {
@@ -179,23 +198,27 @@ void StreamSession::handle_message(WsMessage message) {
     case WsOpcode::kPong:
       return;
     case WsOpcode::kClose:
-      close(1000, "");
-      return;
-    case WsOpcode::kBinary:
-      reply_error("unsupported_message", "client messages must be JSON text frames");
+      // RFC 6455 5.5.1: answered with a close frame echoing the client's status code; the TCP
+      // connection closes once it is written (7.1.1).
+      queue_close(encode_ws_close_reply(message.payload));
       return;
     default:
       break;
   }
-  nlohmann::json request;
-  try {
-    request = nlohmann::json::parse(message.payload);
-  } catch (const nlohmann::json::exception&) {
-    reply_error("malformed_json", "the message is not valid JSON");
+  // A request the session could no longer answer is not carried out either: a teleop arriving
+  // after the server's close frame must not move the robot unacknowledged.
+  if (is_closing()) return;
+  if (message.opcode == WsOpcode::kBinary) {
+    reply_error("unsupported_message", "client messages must be JSON text frames");
     return;
   }
+  handle_text(message.payload);
+}
+
+void StreamSession::handle_text(const std::string& text) {
   try {
-    handle_op(request);
+    std::visit([this](const auto& request) { carry_out(request); },
+               parse_stream_request(text, peer_.caller.role));
   } catch (const ApiError& error) {
     reply_error(error.code(), error.what());
   } catch (const DomainException& error) {
@@ -203,78 +226,35 @@ void StreamSession::handle_message(WsMessage message) {
   }
 }
 
-void StreamSession::handle_op(const nlohmann::json& request) {
-  if (!request.is_object() || !request.contains("op") || !request["op"].is_string()) {
-    throw ApiError(400, "missing_op", "a message needs a string field 'op'");
-  }
-  const std::string op = request["op"];
-  if (op == "subscribe") {
-    subscribe(request);
-  } else if (op == "unsubscribe") {
-    unsubscribe(request);
-  } else if (op == "teleop") {
-    teleop(request);
-  } else if (op == "ping") {
-    nlohmann::json pong{{"op", "pong"}, {"t", ports_.control.time_s()}};
-    pong["id"] = request.contains("id") ? request["id"] : nlohmann::json(nullptr);
-    reply(pong);
-  } else {
-    throw ApiError(400, "unknown_op", "unknown op '" + op + "'");
-  }
+void StreamSession::carry_out(const PingRequest& request) {
+  reply({{"op", "pong"}, {"t", ports_.control.time_s()}, {"id", request.id}});
 }
 
-std::vector<std::string> StreamSession::topic_names(const nlohmann::json& request, const char* op) {
-  if (!request.contains("topics") || !request["topics"].is_array()) {
-    throw ApiError(400, "invalid_topics", std::string(op) + " needs an array field 'topics'");
-  }
-  std::vector<std::string> names;
-  for (const auto& name : request["topics"]) {
-    if (!name.is_string()) throw ApiError(400, "invalid_topics", "topic names are strings");
-    names.push_back(name);
-  }
-  return names;
-}
-
-void StreamSession::subscribe(const nlohmann::json& request) {
-  const std::vector<std::string> names = topic_names(request, "subscribe");
-  bool binary = true;
-  if (request.contains("encoding")) {
-    const auto& encoding = request["encoding"];
-    if (encoding != "json" && encoding != "binary") {
-      throw ApiError(400, "invalid_encoding", "encoding is \"json\" or \"binary\"");
-    }
-    binary = encoding == "binary";
-  }
-  std::int64_t min_interval_us = 0;
-  if (request.contains("max_rate_hz")) {
-    const double rate_hz = require_number(request, "max_rate_hz", 0.1, 1000.0);
-    min_interval_us = static_cast<std::int64_t>(1e6 / rate_hz);
-  }
-  const int camera_quality = optional_integer(request, "camera_quality", 1, 100).value_or(0);
-
+void StreamSession::carry_out(const SubscribeRequest& request) {
   nlohmann::json accepted = nlohmann::json::array();
   std::vector<std::string> unknown;
   bool wants_map = false;
-  for (const auto& name : names) {
+  for (const auto& name : request.topics) {
     const auto topic = topic_from_name(name);
     if (!topic || (topic_spec(*topic).sim_only && ports_.sim == nullptr)) {
       unknown.push_back(name);
       continue;
     }
-    const bool topic_binary = binary && topic_spec(*topic).binary_id != 0;
+    const bool topic_binary = request.binary && topic_spec(*topic).binary_id != 0;
     {
       std::lock_guard lock(mutex_);
       Subscription& subscription = subscriptions_[topic_index(*topic)];
       if (subscription.active) release_locked(*topic, subscription);
-      const int quality_cap = *topic == TopicId::kCamera ? camera_quality : 0;
-      subscription = {true, topic_binary, topic_spec(*topic).sampled ? min_interval_us : 0, 0,
-                      quality_cap};
+      const int quality_cap = *topic == TopicId::kCamera ? request.camera_quality : 0;
+      subscription = {true, topic_binary, topic_spec(*topic).sampled ? request.min_interval_us : 0,
+                      0, quality_cap};
       hub_.count_subscription(*topic, topic_binary, +1);
       if (quality_cap > 0) hub_.count_camera_quality(quality_cap, +1);
     }
     wants_map = wants_map || *topic == TopicId::kMap;
     accepted.push_back(name);
   }
+  note_topics();
   if (!accepted.empty()) reply({{"op", "subscribed"}, {"topics", accepted}});
   if (!unknown.empty()) {
     std::string list;
@@ -294,9 +274,9 @@ void StreamSession::subscribe(const nlohmann::json& request) {
   }
 }
 
-void StreamSession::unsubscribe(const nlohmann::json& request) {
+void StreamSession::carry_out(const UnsubscribeRequest& request) {
   nlohmann::json removed = nlohmann::json::array();
-  for (const auto& name : topic_names(request, "unsubscribe")) {
+  for (const auto& name : request.topics) {
     const auto topic = topic_from_name(name);
     if (!topic) continue;
     std::lock_guard lock(mutex_);
@@ -307,14 +287,34 @@ void StreamSession::unsubscribe(const nlohmann::json& request) {
     topic_queues_[topic_index(*topic)].clear();
     removed.push_back(name);
   }
+  note_topics();
   reply({{"op", "unsubscribed"}, {"topics", removed}});
 }
 
-void StreamSession::teleop(const nlohmann::json& request) {
-  if (role_ < Role::kOperator) {
-    throw ApiError(403, "forbidden", "teleop needs the operator role");
+void StreamSession::note_topics() {
+  ClientRecord* record = peer_.registration.record().get();
+  if (record == nullptr) return;
+  std::vector<std::string> names;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& spec : kTopics) {
+      if (subscriptions_[topic_index(spec.id)].active) names.emplace_back(spec.name);
+    }
   }
-  const TeleopRequest command = parse_teleop(request);
+  record->set_topics(std::move(names));
+}
+
+void StreamSession::count_sent(std::size_t frames, std::size_t bytes) {
+  hub_.count_sent(frames, bytes);
+  if (ClientRecord* record = peer_.registration.record().get()) record->add_sent(bytes);
+}
+
+void StreamSession::carry_out(const TeleopRequest& command) {
+  const Claimant who{peer_.caller, peer_.client.id, true, peer_.client.address};
+  if (auto held = hub_.operator_lock().command(who, OperatorLock::Clock::now(), unix_now_s());
+      !held.ok()) {
+    throw DomainException(held.error());
+  }
   // The command completes on the control loop. The reply is written from the strand, not from the
   // control loop's thread, and only while the session lives: a closed session is not kept for it.
   ports_.control.teleop(
@@ -427,7 +427,7 @@ void StreamSession::write_locked(std::unique_lock<std::mutex>& lock) {
                         [self = shared_from_this(), written] { self->write_rest(written); });
       return;
     }
-    hub_.count_sent(in_flight_.size(), written);
+    count_sent(in_flight_.size(), written);
     writing_ = false;
     in_flight_.clear();
   }
@@ -450,7 +450,7 @@ void StreamSession::write_rest(std::size_t written) {
 }
 
 void StreamSession::on_written(boost::system::error_code error, std::size_t bytes) {
-  if (!error) hub_.count_sent(in_flight_.size(), bytes);
+  if (!error) count_sent(in_flight_.size(), bytes);
   {
     std::lock_guard lock(mutex_);
     writing_ = false;
@@ -473,6 +473,8 @@ void StreamSession::shut_down() {
     control_queue_.clear();
   }
   hub_.detach(this);
+  // A lock held through this stream lapses with it: its operator is gone.
+  hub_.operator_lock().connection_closed(peer_.client.id);
   // The socket closes on the strand, where its reads are started, and never under a write_some
   // of another thread (the descriptor could be reused by then).
   boost::asio::post(socket_.get_executor(), [self = shared_from_this()] { self->close_socket(); });

@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <boost/asio/ip/tcp.hpp>
@@ -14,7 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include "api/ports/ports.h"
+#include "api/rest_reply.h"
 #include "api/stream_hub.h"
+#include "api/stream_request.h"
 #include "api/stream_topics.h"
 #include "api/websocket_frames.h"
 
@@ -27,10 +30,17 @@ namespace mobot::api {
 // at once goes on as an asynchronous write, from the strand. A client that falls silent is pinged
 // every ping_interval_ms and, when nothing at all has come from it for idle_timeout_ms, closed
 // with 1001 and released.
+// Who is on the other end of a stream: the token it authenticated with and the connection.
+struct StreamPeer {
+  Caller caller;
+  ClientContext client;
+  ClientRegistry::Registration registration;  // the connection's entry in GET /api/v1/clients
+};
+
 class StreamSession : public std::enable_shared_from_this<StreamSession> {
  public:
-  StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, const Ports& ports, Role role,
-                std::string already_received);
+  StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub, const Ports& ports,
+                StreamPeer peer, std::string already_received);
   ~StreamSession();
 
   void start();
@@ -51,15 +61,26 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   using Clock = std::chrono::steady_clock;
 
   void read_more();
+  // Parses received bytes and handles the messages; false once the client broke the protocol
+  // (the session is then closing with the parser's code).
+  bool process_received(std::string_view bytes);
   void watch_client();
   void check_client();
   Clock::time_point next_check() const;
   void handle_message(WsMessage message);
-  void handle_op(const nlohmann::json& request);
-  void subscribe(const nlohmann::json& request);
-  void unsubscribe(const nlohmann::json& request);
-  void teleop(const nlohmann::json& request);
+  void handle_text(const std::string& text);
+  // Queues the close frame after what is queued already; nothing is sent after it.
+  void queue_close(std::string frame);
+  bool is_closing();
+  // The parsed client ops (api/stream_request.h), carried out.
+  void carry_out(const SubscribeRequest& request);
+  void carry_out(const UnsubscribeRequest& request);
+  void carry_out(const TeleopRequest& request);
+  void carry_out(const PingRequest& request);
   void reply_teleop(const Result<msgs::Twist>& result);
+  // The subscribed topics, for GET /api/v1/clients.
+  void note_topics();
+  void count_sent(std::size_t frames, std::size_t bytes);
   void reply(const nlohmann::json& message);
   void reply_error(const std::string& code, const std::string& message);
   void queue_control(std::shared_ptr<const std::string> frame);
@@ -73,12 +94,11 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   void on_written(boost::system::error_code error, std::size_t bytes);
   void shut_down();
   void close_socket();
-  std::vector<std::string> topic_names(const nlohmann::json& request, const char* op);
 
   boost::asio::ip::tcp::socket socket_;
   StreamHub& hub_;
   Ports ports_;
-  Role role_;
+  StreamPeer peer_;
   WsFrameParser parser_;
   std::array<char, 8192> read_buffer_{};
   std::string already_received_;

@@ -15,12 +15,14 @@ std::int64_t TokenStore::add(const std::string& hash, Role role, const std::stri
   });
 }
 
-std::optional<Role> TokenStore::find_role(const std::string& hash) const {
-  return database_.read([&](const Connection& connection) -> std::optional<Role> {
-    Statement row = connection.prepare("SELECT role FROM tokens WHERE hash = ? AND revoked = 0");
+std::optional<TokenRecord> TokenStore::find(const std::string& hash) const {
+  return database_.read([&](const Connection& connection) -> std::optional<TokenRecord> {
+    Statement row = connection.prepare(
+        "SELECT id, role, label, created_unix_s FROM tokens WHERE hash = ? AND revoked = 0");
     row.bind(1, hash);
     if (!row.step()) return std::nullopt;
-    return static_cast<Role>(row.column_int64(0));
+    return TokenRecord{row.column_int64(0), static_cast<Role>(row.column_int64(1)),
+                       row.column_text(2), row.column_double(3), false};
   });
 }
 

@@ -26,8 +26,8 @@ class TokenStore {
 
   std::int64_t add(const std::string& hash, Role role, const std::string& label,
                    double created_unix_s);
-  // The role of a live (not revoked) token with this hash.
-  std::optional<Role> find_role(const std::string& hash) const;
+  // The live (not revoked) token with this hash.
+  std::optional<TokenRecord> find(const std::string& hash) const;
   std::vector<TokenRecord> list() const;
   // False when no live token has this id.
   bool revoke(std::int64_t id);

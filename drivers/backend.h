@@ -25,6 +25,9 @@ class Backend {
   virtual SimControl* sim_control() { return nullptr; }
   // The real devices' counters for /metrics; the simulator has none.
   virtual std::vector<DeviceCounters> device_counters() const { return {}; }
+  // Stops the real devices' threads (their listeners, such as the scan forwarder, call into the
+  // runtime, which goes before the backend does). Idempotent; the simulator has no threads.
+  virtual void stop_devices() {}
 };
 
 }  // namespace mobot::drivers

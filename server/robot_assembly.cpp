@@ -54,6 +54,7 @@ std::vector<WatchedSensor> watched_sensors(const drivers::DriverSet& drivers,
   watch(sensors, drivers.sonar.get(), robot);
   watch(sensors, drivers.ir.get(), robot);
   watch(sensors, drivers.compass.get(), robot);
+  watch(sensors, drivers.head_range.get(), robot);
   return sensors;
 }
 
@@ -89,6 +90,8 @@ RobotAssembly::RobotAssembly(const Config& config, Bus& bus,
     publish_->leave_scans_to_forwarder();
   }
 }
+
+RobotAssembly::~RobotAssembly() { backend_->stop_devices(); }
 
 Pipeline RobotAssembly::build_pipeline(const Config& config, SweepStage::Listener on_sweep) {
   drivers::DriverSet& drivers = backend_->drivers();

@@ -35,6 +35,10 @@ class RobotAssembly {
   // `on_sweep` hears every sweep's outcome on the control loop (it must only hand it on).
   RobotAssembly(const Config& config, Bus& bus, std::unique_ptr<drivers::Backend> backend,
                 SweepStage::Listener on_sweep);
+  // The devices' threads stop first: a laser's scan forwarder calls into the runtime.
+  ~RobotAssembly();
+  RobotAssembly(const RobotAssembly&) = delete;
+  RobotAssembly& operator=(const RobotAssembly&) = delete;
 
   drivers::Backend& backend() { return *backend_; }
   const ConfiguredPlugins& plugins() const { return plugins_; }

@@ -5,6 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/mapping/map_image_size.h"
+
 namespace mobot::mapping {
 namespace {
 
@@ -16,7 +18,14 @@ cv::Mat decode_grey(std::span<const std::uint8_t> image_bytes) {
   if (image_bytes.empty()) throw MapImageError("the image is empty");
   const cv::Mat encoded(1, static_cast<int>(image_bytes.size()), CV_8UC1,
                         const_cast<std::uint8_t*>(image_bytes.data()));
-  cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_UNCHANGED);
+  cv::Mat decoded;
+  try {
+    decoded = cv::imdecode(encoded, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& error) {
+    // OpenCV throws on some malformed headers (a side over its 2^20 pixels, say) instead of
+    // returning an empty image.
+    throw MapImageError(std::string("the image cannot be decoded: ") + error.err);
+  }
   if (decoded.empty())
     throw MapImageError("the image is neither a PGM nor a PNG that can be decoded");
   if (decoded.depth() == CV_16U) decoded.convertTo(decoded, CV_8U, 1.0 / 257.0);
@@ -42,6 +51,13 @@ cv::Mat decode_grey(std::span<const std::uint8_t> image_bytes) {
       throw MapImageError("the image has an unsupported number of channels");
   }
   return grey;
+}
+
+void check_cells(std::uint64_t cells, std::size_t max_cells) {
+  if (cells > max_cells) {
+    throw MapImageError("the image has " + std::to_string(cells) + " pixels; the limit is " +
+                        std::to_string(max_cells));
+  }
 }
 
 std::uint8_t classify(std::uint8_t pixel, const MapImageOptions& options) {
@@ -78,12 +94,15 @@ OccupancyGrid decode_map_image(std::span<const std::uint8_t> image_bytes, double
                                const geometry::Pose2D& origin, const MapImageOptions& options,
                                std::size_t max_cells) {
   if (!(resolution_m > 0.0)) throw MapImageError("the resolution must be positive");
+  if (image_bytes.empty()) throw MapImageError("the image is empty");
+  // Only the two formats a map comes in reach OpenCV (not its TIFF, JPEG 2000 or EXR decoders),
+  // and only at a size the server can hold: a decoder allocates what the header declares.
+  const std::optional<MapImageSize> declared = read_map_image_size(image_bytes);
+  if (!declared) throw MapImageError("the image is neither a PGM nor a PNG");
+  check_cells(declared->pixels(), max_cells);
   const cv::Mat grey = decode_grey(image_bytes);
-  const auto cells = static_cast<std::size_t>(grey.rows) * static_cast<std::size_t>(grey.cols);
-  if (cells > max_cells) {
-    throw MapImageError("the image has " + std::to_string(cells) + " pixels; the limit is " +
-                        std::to_string(max_cells));
-  }
+  check_cells(static_cast<std::uint64_t>(grey.rows) * static_cast<std::uint64_t>(grey.cols),
+              max_cells);
   OccupancyGrid grid(grey.cols, grey.rows, resolution_m, origin);
   for (int row = 0; row < grey.rows; ++row) {
     const auto* pixels = grey.ptr<std::uint8_t>(row);

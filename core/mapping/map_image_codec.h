@@ -26,9 +26,10 @@ struct MapImageOptions {
 };
 
 // Decodes a PGM or PNG image held in memory (colour is averaged to grey, as map_server does).
-// Pixel p = (255 - v) / 255 (v / 255 when negated): p > occupied_thresh -> occupied, p <
-// free_thresh
-// -> free, otherwise unknown. Image row 0 is the top of the map; grid row 0 is the bottom.
+// Pixel p = (255 - v) / 255 (v / 255 when negated): p > occupied_thresh -> occupied,
+// p < free_thresh -> free, otherwise unknown. Image row 0 is the top of the map; grid row 0 is
+// the bottom. Other formats, and images whose header declares more than max_cells pixels, are
+// refused before anything is decoded (MapImageError).
 OccupancyGrid decode_map_image(std::span<const std::uint8_t> image_bytes, double resolution_m,
                                const geometry::Pose2D& origin, const MapImageOptions& options,
                                std::size_t max_cells);

@@ -6,6 +6,7 @@
 
 #include "drivers/hardware/camera_devices.h"
 #include "drivers/hardware/dashgo_devices.h"
+#include "drivers/hardware/maestro_devices.h"
 #include "drivers/hardware/modbus_devices.h"
 #include "drivers/hardware/motion_mind_devices.h"
 #include "drivers/hardware/sick_lms2xx_devices.h"
@@ -23,6 +24,7 @@ constexpr std::array kDrivers{
     DeviceDriverEntry{"bus", "modbus_rtu", make_modbus_rtu},
     DeviceDriverEntry{"tilt", "motion_mind", make_motion_mind_tilt},
     DeviceDriverEntry{"camera", "opencv", make_opencv_camera},
+    DeviceDriverEntry{"pan_tilt", "pololu_maestro", make_pololu_maestro},
 };
 
 const DeviceDriverEntry& find_driver(const std::string& role, const std::string& driver) {
@@ -58,8 +60,10 @@ HardwareBackend::HardwareBackend(sim::RobotProfile profile, const BackendOptions
   std::vector<std::string> roles;
   for (const auto& item : section) roles.push_back(item.first.as<std::string>());
   // A driver may build on another role's device (the tilt on the laser's scans and the base's
-  // line): the roles are made in this order, whatever the file's.
-  static const std::vector<std::string> kOrder{"base", "laser", "ir", "bus", "tilt", "camera"};
+  // line, the pan/tilt head on the camera it turns): the roles are made in this order, whatever
+  // the file's.
+  static const std::vector<std::string> kOrder{"base", "laser",  "ir",      "bus",
+                                               "tilt", "camera", "pan_tilt"};
   std::stable_sort(roles.begin(), roles.end(), [](const std::string& a, const std::string& b) {
     const auto rank = [](const std::string& role) {
       return std::find(kOrder.begin(), kOrder.end(), role) - kOrder.begin();
@@ -81,6 +85,10 @@ HardwareBackend::HardwareBackend(sim::RobotProfile profile, const BackendOptions
 
 HardwareBackend::~HardwareBackend() {
   // The threads stop before the drivers that read them go.
+  stop_devices();
+}
+
+void HardwareBackend::stop_devices() {
   for (const auto& device : assembly_->devices) device->stop();
 }
 

@@ -15,6 +15,7 @@ class HardwareBackend final : public Backend {
  public:
   HardwareBackend(sim::RobotProfile profile, const BackendOptions& options);
   ~HardwareBackend() override;
+  void stop_devices() override;
 
   std::string_view name() const override { return "hardware"; }
   const kinematics::RobotGeometry& geometry() const override { return geometry_; }

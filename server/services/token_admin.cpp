@@ -18,20 +18,23 @@ std::optional<std::string> TokenAdmin::create_first_admin() {
   return token;
 }
 
-std::optional<api::Role> TokenAdmin::authenticate(std::string_view token) {
+std::optional<api::Caller> TokenAdmin::authenticate(std::string_view token) {
   if (token.size() > 256) return std::nullopt;
   const std::string hash = hash_token(token);
-  if (!process_admin_hash_.empty() && hash == process_admin_hash_) return api::Role::kAdmin;
+  if (!process_admin_hash_.empty() && hash == process_admin_hash_) {
+    return api::Caller{0, api::Role::kAdmin, "admin (--token)"};
+  }
   {
     std::lock_guard lock(mutex_);
-    if (auto it = role_cache_.find(hash); it != role_cache_.end()) return it->second;
+    if (auto it = caller_cache_.find(hash); it != caller_cache_.end()) return it->second;
   }
-  const auto role = tokens_.find_role(hash);
-  if (!role) return std::nullopt;
-  const auto api_role = static_cast<api::Role>(static_cast<int>(*role));
+  const auto record = tokens_.find(hash);
+  if (!record) return std::nullopt;
+  const api::Caller caller{record->id, static_cast<api::Role>(static_cast<int>(record->role)),
+                           record->label};
   std::lock_guard lock(mutex_);
-  role_cache_[hash] = api_role;
-  return api_role;
+  caller_cache_[hash] = caller;
+  return caller;
 }
 
 std::pair<std::int64_t, std::string> TokenAdmin::create_token(api::Role role,
@@ -55,7 +58,7 @@ bool TokenAdmin::revoke_token(std::int64_t id) {
   if (!tokens_.revoke(id)) return false;
   // A revoked token must stop working at once, not when its cache entry ages out.
   std::lock_guard lock(mutex_);
-  role_cache_.clear();
+  caller_cache_.clear();
   return true;
 }
 

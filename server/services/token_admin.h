@@ -9,13 +9,13 @@
 
 namespace mobot::server {
 
-// The TokenAdminPort: hashed tokens in the store, a cache of their roles, and one admin token
-// that lives only as long as the process (--token).
+// The TokenAdminPort: hashed tokens in the store, a cache of who they are, and one admin token
+// that lives only as long as the process (--token, id 0).
 class TokenAdmin final : public api::TokenAdminPort {
  public:
   TokenAdmin(db::TokenStore& tokens, const std::string& process_admin_token);
 
-  std::optional<api::Role> authenticate(std::string_view token) override;
+  std::optional<api::Caller> authenticate(std::string_view token) override;
   std::pair<std::int64_t, std::string> create_token(api::Role role,
                                                     const std::string& label) override;
   std::vector<api::TokenInfo> list_tokens() const override;
@@ -28,7 +28,7 @@ class TokenAdmin final : public api::TokenAdminPort {
   db::TokenStore& tokens_;
   std::string process_admin_hash_;
   std::mutex mutex_;
-  std::unordered_map<std::string, api::Role> role_cache_;  // token hash -> role
+  std::unordered_map<std::string, api::Caller> caller_cache_;  // token hash -> who
 };
 
 }  // namespace mobot::server

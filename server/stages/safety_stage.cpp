@@ -25,6 +25,7 @@ void SafetyStage::watch(TickContext& context) {
   if (context.sonar) watchdog_.seen("sonar", t_s);
   if (context.ir) watchdog_.seen("ir", t_s);
   if (context.compass) watchdog_.seen("compass", t_s);
+  if (context.head_range) watchdog_.seen("head_range", t_s);
   context.sensors.clear();
   for (const auto& status : watchdog_.status(t_s)) {
     context.sensors.push_back({status.name, status.ok, status.rate_hz, status.ok ? "" : "stale"});

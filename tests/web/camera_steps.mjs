@@ -26,6 +26,7 @@ import { existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { Skip } from './mapping_steps.mjs';
+import { restProbe } from './rest_probe.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 /** The repository root: mobotd is started from here, so the config's relative paths and web/dist resolve. */
@@ -57,21 +58,7 @@ export async function cameraSteps(t) {
   let ballId = null;
   const api = (method, path, body) => t.rest(base, t.token, method, path, body);
   /** The status and error code of a request that may fail (no throw). */
-  const probe = async (method, path, body) => {
-    const response = await fetch(base + path, {
-      method,
-      headers: { Authorization: `Bearer ${t.token}`, ...(body ? { 'Content-Type': 'application/json' } : {}) },
-      body: body ? JSON.stringify(body) : undefined,
-    });
-    const text = await response.text();
-    let json = null;
-    try {
-      json = JSON.parse(text);
-    } catch {
-      // not JSON
-    }
-    return { status: response.status, code: json?.error?.code ?? null, json, text };
-  };
+  const probe = (method, path, body) => restProbe(base, t.token, method, path, body);
   const hook = () => page.evaluate(() => window.__mobot.camera);
   const dismissToasts = () => page.$$eval('#toasts .toast', (els) => els.forEach((e) => e.click()));
   const ready = () => {

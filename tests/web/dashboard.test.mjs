@@ -19,7 +19,9 @@
 // particle cloud and the mapping workflow; each skips, saying why, on a server without its path.
 // camera_steps.mjs adds the camera panel, tracking and following against a second mobotd started
 // with deploy/config/camera_robot.yaml when that file exists (skipped, saying why, when GET
-// /api/v1/camera answers 404).
+// /api/v1/camera answers 404). operator_steps.mjs adds the operator lock (the Operator card, a
+// second token "bob" taking the lock, an admin take-over, two browser contexts contending) and the
+// admins' Connected list (skipped, saying why, when GET /api/v1/operator answers 404).
 // Exit code 0 when every check passes (skips pass). Screenshots of failures go to tests/web/out/.
 
 import { spawn } from 'node:child_process';
@@ -32,13 +34,15 @@ import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { cameraSteps, REPO_ROOT } from './camera_steps.mjs';
 import { mappingLocalizationZoneSteps, Skip } from './mapping_steps.mjs';
+import { operatorSteps } from './operator_steps.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const OUT_DIR = join(HERE, 'out');
 const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
 // The mapping, localization and zone scenarios add about 40 s once the server has them (more on a
-// loaded machine), the camera scenarios (a second mobotd) about 30 s.
-const TOTAL_BUDGET_MS = 220_000;
+// loaded machine), the camera scenarios (a second mobotd) about 30 s, the operator lock's (two more
+// browser contexts) about 25 s.
+const TOTAL_BUDGET_MS = 250_000;
 
 // ---------------------------------------------------------------- arguments
 
@@ -779,6 +783,8 @@ async function main() {
     });
 
     await mappingLocalizationZoneSteps({ page, base: () => base, token, step, rest, until, sleep, screenshot, toClient });
+
+    await operatorSteps({ browser, page, base: () => base, token, step, rest, until, sleep, screenshot, pageErrors });
 
     // The camera robot: a mobotd of its own (same token), started from the repository root so the
     // config's relative paths and web/dist resolve; stopped and its data dir removed afterwards.

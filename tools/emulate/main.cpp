@@ -1,7 +1,12 @@
 // mobot-emulate: a robot's devices on pseudo-terminals, speaking their real protocols from the
 // device's side, so mobotd --backend hardware runs without the robot.
 //
-//   mobot-emulate dashgo|r1 --dir /tmp/dashgo [--world office] [--seed 1] [--trace-scans FILE]
+//   mobot-emulate dashgo|r1|camera_robot --dir /tmp/dashgo [--world office] [--seed 1]
+//                 [--trace-scans FILE]
+//
+// camera_robot (docs/algorithms.md R4 on hardware): the Dashgo's base and lidar, the camera
+// head's Pololu Maestro (two servos, the ultrasonic ranger), and the camera as frames of a still
+// scene written to DIR/frames (a red ball at the image centre), which the config's camera plays.
 //
 // --trace-scans appends to FILE, per completed lidar turn, the CLOCK_REALTIME time in microseconds
 // at which the last byte of the packet completing it went to the pty (tests/bench/scan_latency.py
@@ -15,7 +20,13 @@
 //   estop on|off               the base's emergency button (dashgo)
 //   limit on|off               the limit switch on the RS-485 bus (r1)
 //   node N on|off              a node of the RS-485 bus answers or not (r1)
-//   wheels                     -> "wheels L R", the base's wheel set-points (dashgo: ticks/frame)
+//   wheels                     -> "wheels L R", the base's wheel set-points (dashgo, camera_robot:
+//                                 ticks/frame)
+//   maestro head               -> "head PAN TILT PAN_US TILT_US": the head's servos (rad, "none"
+//                                 while off, and their pulses) (camera_robot)
+//   maestro range              -> "range METRES" or "range none": what the head's ranger sees
+//   maestro errors             -> "errors BITS": the Maestro's error register (not cleared)
+//   maestro raise|keep BITS    the Maestro detects these errors once, or every 10 ms (keep 0 ends)
 //   pose                       -> "pose X Y THETA", the emulated base's true pose
 //   set_pose X Y THETA
 //   ray X Y ANGLE HEIGHT       -> "ray RANGE" (or "ray none"): the floor plan seen from (X, Y)
@@ -39,12 +50,13 @@ std::atomic<bool> g_stop{false};
 
 void on_signal(int) { g_stop = true; }
 
-// The robot's hardware config with the emulated devices' links as its device paths.
+// The robot's hardware config with the emulated devices' links as its device paths (and what
+// else the emulated devices need there).
 void write_config(const std::filesystem::path& template_path, const std::filesystem::path& out,
                   const mobot::emulate::EmulatedRobot& robot) {
   YAML::Node config = YAML::LoadFile(template_path.string());
-  for (const auto& [name, link] : robot.links()) {
-    if (config["hardware"][name]) config["hardware"][name]["device"] = link.string();
+  for (const auto& [role, key, value] : robot.config_settings()) {
+    if (config["hardware"][role]) config["hardware"][role][key] = value;
   }
   std::ofstream file(out);
   file << "# Written by mobot-emulate from " << template_path.string() << "\n" << config << "\n";
@@ -60,7 +72,8 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::filesystem::path config_template;
   std::filesystem::path trace_scans;
-  cli.add_option("robot", robot_name, "dashgo | r1")->check(CLI::IsMember({"dashgo", "r1"}));
+  const std::vector<std::string> robots{"dashgo", "r1", "camera_robot"};
+  cli.add_option("robot", robot_name, "dashgo | r1 | camera_robot")->check(CLI::IsMember(robots));
   cli.add_option("--dir", dir, "where the device links and the config go")->required();
   cli.add_option("--world", world_name, "a built-in world or a world.yaml");
   cli.add_option("--seed", seed, "noise seed");
@@ -70,8 +83,10 @@ int main(int argc, char** argv) {
                  "append the realtime us at which each lidar turn's last packet was written");
   CLI11_PARSE(cli, argc, argv);
   if (config_template.empty()) {
-    config_template = std::filesystem::path(MOBOT_SOURCE_ROOT) / "deploy/config" /
-                      (robot_name == "dashgo" ? "dashgo_d1_hardware.yaml" : "r1_hardware.yaml");
+    // Each robot's hardware profile: deploy/config/<file>_hardware.yaml.
+    const std::string file = robot_name == "dashgo" ? "dashgo_d1" : robot_name;
+    config_template =
+        std::filesystem::path(MOBOT_SOURCE_ROOT) / "deploy/config" / (file + "_hardware.yaml");
   }
 
   try {

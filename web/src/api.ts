@@ -7,6 +7,7 @@ import type { Goal } from './goals';
 import type { JsonObstacleMap } from './ipabd';
 import type { EstimatorName } from './localization';
 import type { MappingStartReply, MappingStatus, MappingStopReply } from './mapping';
+import type { OperatorAction } from './operator';
 import type { SweepInfo, SweepRequest } from './sweeps';
 import type { JsonGeometry } from './tricycle';
 import type { ZoneRequest } from './zones';
@@ -125,7 +126,13 @@ export async function errorFromResponse(response: Response): Promise<ApiError> {
 /** Whether the server serves a path: a wrong method on a known path is 405, an unknown path 404 (both before auth). */
 export type PathPresence = 'present' | 'absent' | 'unknown';
 
+/** Told of every answered request: the operator lock learns from driving commands and their refusals. */
+export type ResponseObserver = (method: string, path: string, error: ApiError | null) => void;
+
 export class ApiClient {
+  /** Called after each request the server answered (not for unreachable servers). */
+  onResponse: ResponseObserver | null = null;
+
   constructor(
     private token: string,
     private readonly base = '',
@@ -148,7 +155,12 @@ export class ApiClient {
     } catch (error) {
       throw new ApiError(0, 'network_error', `server unreachable (${errorText(error)})`);
     }
-    if (!response.ok) throw await errorFromResponse(response);
+    if (!response.ok) {
+      const error = await errorFromResponse(response);
+      this.onResponse?.(method, path, error);
+      throw error;
+    }
+    this.onResponse?.(method, path, null);
     return response;
   }
 
@@ -297,6 +309,18 @@ export class ApiClient {
   }
   stopFollowing(): Promise<unknown> {
     return this.json('DELETE', '/api/v1/follow');
+  }
+  /** GET /api/v1/operator: who holds the operator lock ({holder: null} when nobody). */
+  operator(): Promise<unknown> {
+    return this.json('GET', '/api/v1/operator');
+  }
+  /** POST /api/v1/operator: the lock after the change (take_over: admin only). */
+  operatorAction(action: OperatorAction): Promise<unknown> {
+    return this.json('POST', '/api/v1/operator', { action });
+  }
+  /** GET /api/v1/clients: every open connection (admin only, 403 otherwise). */
+  clients(): Promise<unknown> {
+    return this.json('GET', '/api/v1/clients');
   }
   simTruth(): Promise<SimTruth> {
     return this.json('GET', '/api/v1/sim/truth');

@@ -6,6 +6,7 @@ import type { RobotStatus } from './api';
 import { ApiError, errorText } from './apierror';
 import { basePath, forgetToken, initialToken, saveToken, streamUrl } from './auth';
 import { CameraPanel } from './camera_panel';
+import { ClientsPanel } from './clients_panel';
 import type { Pose2D } from './frames';
 import type { SonarReading } from './map/layers/sonar';
 import { LivePage } from './pages/live';
@@ -16,6 +17,8 @@ import type { NavError, NavMode } from './nav';
 import { IpabdOverlay } from './ipabdoverlay';
 import { LocalizationPanel } from './localization_panel';
 import { MappingPanel } from './mapping_panel';
+import { isDrivingCommand } from './operator';
+import { OperatorPanel } from './operator_panel';
 import { ZonesPanel } from './zones_panel';
 import { CloudPage } from './pages/cloud3d';
 import { MapsPage } from './pages/maps';
@@ -121,6 +124,34 @@ export interface MobotHooks {
   };
   /** Camera image pixels -> viewport (client) CSS pixels, for mouse events on the camera image. */
   cameraToClient(x: number, y: number): [number, number];
+  /**
+   * The Operator card: the server has the lock (null: not asked yet), the state (free, mine, other,
+   * held: somebody whom the page cannot tell from itself, unknown, unsupported), the holder, this
+   * page's token id once learnt, whether the token is an admin, the line and buttons shown, whether
+   * teleop and goals are refused here, who took the lock from this page, the last refusal, the GETs.
+   */
+  readonly operator: {
+    supported: boolean | null;
+    state: string;
+    holder: { tokenId: number; label: string | null; role: string | null; address: string | null; since: number | null } | null;
+    me: number | null;
+    admin: boolean | null;
+    line: string;
+    buttons: { acquire: boolean; release: boolean; takeOver: boolean };
+    blocksCommands: boolean;
+    lostTo: string | null;
+    error: string | null;
+    polls: number;
+  };
+  /** The Connected card (admins): shown, open, refreshing, the rows, GETs while open, the last error. */
+  readonly clients: {
+    shown: boolean;
+    open: boolean;
+    polling: boolean;
+    polls: number;
+    rows: { id: number; kind: string; label: string | null; role: string | null; address: string; topics: string[]; bytesSent: number; dropped: number }[];
+    error: string | null;
+  };
 }
 
 let token = initialToken();
@@ -216,13 +247,28 @@ const stream = new StreamClient({
     camera: (jpeg) => camera.onFrame(jpeg),
     serverError: (code, message) => {
       lastError = `${code}: ${message}`;
+      if (code === 'operator_busy') {
+        // Teleop is the only stream op the lock guards; the card asks who drives now.
+        toast(`Teleop refused: ${message}`, 'error');
+        operator.commandRefused();
+        return;
+      }
       toast(`${message} (${code})`, 'error');
     },
-    teleopAck: (v, w) => live.onTeleopAck(v, w),
+    teleopAck: (v, w) => {
+      live.onTeleopAck(v, w);
+      operator.commandAccepted();
+    },
   },
 });
 
 const live = new LivePage(stream, (command) => {
+  // Somebody else surely drives: nothing is sent (a held key would be refused 15 times a second);
+  // a drive input says why, the release of one says nothing.
+  if (operator.view.blocksCommands) {
+    if (command.v !== 0 || command.w !== 0) lastError = operator.refuseLocally('Teleop') ?? lastError;
+    return false;
+  }
   const sent = stream.send({ op: 'teleop', v: command.v, w: command.w, ttl_ms: TTL_MS });
   if (!sent && (command.v !== 0 || command.w !== 0)) toast('Not connected: teleop is not sent', 'error');
   return sent;
@@ -234,6 +280,22 @@ const camera = new CameraPanel(api, {
   refreshStatus: () => void api.robot().then(onRobotStatus, () => {}),
 });
 nav.renderObstacles();
+const operator = new OperatorPanel(api, {
+  changed: (view) => {
+    const reason = view.blocksCommands ? view.lockedReason : null;
+    live.setTeleopLock(reason);
+    nav.setGoalLock(reason);
+  },
+});
+nav.onLockedAttempt = () => {
+  lastError = operator.refuseLocally('Goal') ?? lastError;
+};
+const clients = new ClientsPanel(api, { admin: (admin) => operator.setAdmin(admin) });
+// Driving commands tell the card who this page is (accepted) or that somebody else drives (409).
+api.onResponse = (method, path, error) => {
+  if (error?.code === 'operator_busy') operator.commandRefused();
+  else if (!error && isDrivingCommand(method, path)) operator.commandAccepted();
+};
 const maps = new MapsPage(byId('page-maps'), api);
 const runs = new RunsPage(byId('page-runs'), api);
 const cloud3d = new CloudPage(byId('page-3d'), api);
@@ -433,6 +495,33 @@ window.__mobot = {
   cameraToClient(x: number, y: number) {
     return camera.imageToClient(x, y);
   },
+  get operator() {
+    const v = operator.view;
+    const holder = operator.holder;
+    return {
+      supported: operator.supported,
+      state: v.state,
+      holder: holder ? { tokenId: holder.tokenId, label: holder.label, role: holder.role, address: holder.address, since: holder.since } : null,
+      me: operator.me,
+      admin: operator.admin,
+      line: v.line,
+      buttons: { ...v.buttons },
+      blocksCommands: v.blocksCommands,
+      lostTo: operator.lostTo,
+      error: operator.lastError,
+      polls: operator.polls,
+    };
+  },
+  get clients() {
+    return {
+      shown: clients.admin === true,
+      open: clients.open,
+      polling: clients.polling,
+      polls: clients.polls,
+      rows: clients.clients.map((c) => ({ id: c.id, kind: c.kind, label: c.label, role: c.role, address: c.address, topics: [...c.topics], bytesSent: c.bytesSent, dropped: c.dropped })),
+      error: clients.lastError,
+    };
+  },
 };
 
 /** /robot (REST or the status topic): every panel that shows part of it. */
@@ -484,10 +573,14 @@ function showConnection(state: ConnectionState, detail: string): void {
     void zones.connected();
     void camera.connected();
     void cloud3d.connected();
+    operator.connected();
+    void clients.connected();
     if (ipabd.enabled) void ipabd.refresh();
     if (currentPage !== 'live') void refreshPage(currentPage);
   } else {
     camera.disconnected();
+    operator.disconnected();
+    clients.disconnected();
   }
 }
 
@@ -533,6 +626,8 @@ byId('login-form').addEventListener('submit', (e) => {
   token = value;
   saveToken(token);
   api.setToken(token);
+  operator.tokenChanged();
+  clients.tokenChanged();
   byId('login').hidden = true;
   void start();
 });
@@ -541,6 +636,8 @@ byId('signout').addEventListener('click', () => {
   forgetToken();
   token = '';
   api.setToken('');
+  operator.tokenChanged();
+  clients.tokenChanged();
   stream.stop();
   showLogin(null);
 });
@@ -596,6 +693,7 @@ function showPage(page: string): void {
   nav.enabled = page === 'live';
   zones.enabled = page === 'live';
   camera.setVisible(page === 'live');
+  clients.setVisible(page === 'live');
   if (page !== 'live') {
     nav.setMode(null);
     zones.stop();

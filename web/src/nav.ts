@@ -70,6 +70,10 @@ export class NavigationPanel {
   /** Whether keyboard shortcuts apply (the Live page is shown). */
   enabled = true;
   simAvailable = false;
+  /** Why goals are refused here (somebody else holds the operator lock); null while they are not. */
+  goalLock: string | null = null;
+  /** Set goal was pressed while goals are refused: the operator card says why and asks again. */
+  onLockedAttempt: (() => void) | null = null;
   private renderedVersion = -1;
   private pending = false;
 
@@ -158,8 +162,25 @@ export class NavigationPanel {
     this.setMode(this.mode === mode ? null : mode);
   }
 
+  /** Somebody else holds the operator lock (`reason` says who), or nobody does (null). */
+  setGoalLock(reason: string | null): void {
+    this.goalLock = reason;
+    const button = byId('goal-mode');
+    // Not `disabled`: a press still comes and is answered with why.
+    button.setAttribute('aria-disabled', String(reason !== null));
+    button.title = reason ?? 'Set goal (G): press on the map for the position, drag for the heading, release to send';
+    const note = byId('goal-locked');
+    note.hidden = reason === null;
+    note.textContent = reason ?? '';
+    if (reason !== null && this.mode === 'goal') this.setMode(null);
+  }
+
   setMode(mode: NavMode | null): void {
     if (mode === 'obstacle' && !this.simAvailable) mode = null;
+    if (mode === 'goal' && this.goalLock !== null) {
+      this.onLockedAttempt?.();
+      return;
+    }
     this.mode = mode;
     for (const [name, info] of Object.entries(MODE_INFO)) {
       for (const id of info.buttons) {

@@ -27,6 +27,11 @@ class HardwareSuite : public ::testing::Test {
     server_ = std::make_unique<MobotdProcess>(options);
   }
   static void TearDownTestSuite() {
+    // A clean shutdown with the devices still talking: their threads must stop before what they
+    // call into goes (a laser's scans are forwarded to the runtime on the laser's thread).
+    if (server_ && server_->alive()) {
+      EXPECT_EQ(server_->terminate(), 0) << "mobotd did not exit cleanly on SIGTERM";
+    }
     server_.reset();
     emulator_.reset();
   }

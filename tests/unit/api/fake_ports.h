@@ -3,6 +3,7 @@
 // what was kept, from whichever thread it likes.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <mutex>
@@ -27,9 +28,12 @@ class Answers {
   int calls = 1;
   bool throw_after_completing = false;
 
+  // `command`: the state change an accepted request makes, recorded (see accepted()).
   template <class T>
-  void complete(Completion<T> done, Result<T> result) {
+  void complete(Completion<T> done, Result<T> result, const char* command = nullptr) {
     if (refusal) result = Result<T>(*refusal);
+    if (command != nullptr && result.ok()) record(command);
+    if (!result.ok()) ++refusals;
     if (!defer) {
       call(done, result);
       return;
@@ -40,8 +44,14 @@ class Answers {
   }
 
   void check() const {
-    if (refusal) throw DomainException(*refusal);
+    if (!refusal) return;
+    ++refusals;
+    throw DomainException(*refusal);
   }
+
+  // How many times a fake said no (a refusal of its own, or `refusal`): the request reached the
+  // robot and the robot refused it.
+  mutable std::atomic<int> refusals{0};
 
   // Runs the kept completions on the calling thread; returns how many ran.
   std::size_t run_pending() {
@@ -59,6 +69,17 @@ class Answers {
     return pending_.size();
   }
 
+  // The state changes the fakes accepted, in order. A refused request records nothing: a reply
+  // in 4xx must leave this as it was (DESIGN: bad input never changes state).
+  void record(std::string command) {
+    std::lock_guard lock(mutex_);
+    accepted_.push_back(std::move(command));
+  }
+  std::vector<std::string> accepted() const {
+    std::lock_guard lock(mutex_);
+    return accepted_;
+  }
+
  private:
   template <class T>
   void call(const Completion<T>& done, const Result<T>& result) {
@@ -70,6 +91,7 @@ class Answers {
 
   mutable std::mutex mutex_;
   std::vector<std::function<void()>> pending_;
+  std::vector<std::string> accepted_;
 };
 
 class FakeControl : public ControlPort {
@@ -88,10 +110,10 @@ class FakeControl : public ControlPort {
   }
   double time_s() const override { return clock_s; }
   void teleop(const msgs::Twist& command, int, Completion<msgs::Twist> done) override {
-    answers_.complete(std::move(done), Result<msgs::Twist>(command));
+    answers_.complete(std::move(done), Result<msgs::Twist>(command), "teleop");
   }
   void set_estop(bool engaged, Completion<bool> done) override {
-    answers_.complete(std::move(done), Result<bool>(engaged));
+    answers_.complete(std::move(done), Result<bool>(engaged), "set_estop");
   }
   void submit_goal(const GoalRequest& request, Completion<navigation::Goal> done) override {
     navigation::Goal goal;
@@ -101,7 +123,7 @@ class FakeControl : public ControlPort {
     goal.has_heading = request.has_heading;
     goal.planner = request.planner;
     goal.controller = request.controller;
-    answers_.complete(std::move(done), Result<navigation::Goal>(goal));
+    answers_.complete(std::move(done), Result<navigation::Goal>(goal), "submit_goal");
   }
   std::vector<navigation::Goal> list_goals() const override { return {}; }
   std::optional<navigation::Goal> find_goal(std::int64_t) const override { return std::nullopt; }
@@ -112,7 +134,7 @@ class FakeControl : public ControlPort {
   }
   void set_localization_pose(const geometry::Pose2D&, const std::array<double, 9>&,
                              Completion<Done> done) override {
-    answers_.complete(std::move(done), Result<Done>(Done{}));
+    answers_.complete(std::move(done), Result<Done>(Done{}), "set_localization_pose");
   }
   std::vector<std::string> planner_names() const override { return planners; }
   std::vector<std::string> controller_names() const override { return controllers; }
@@ -130,15 +152,21 @@ class FakeMaps : public MapCatalogPort {
   std::optional<mapping::OccupancyGrid> map_grid(std::int64_t) const override {
     return std::nullopt;
   }
-  std::int64_t import_map(const std::string&, const mapping::OccupancyGrid&) override { return 1; }
+  std::int64_t import_map(const std::string&, const mapping::OccupancyGrid&) override {
+    answers_.record("import_map");
+    return 1;
+  }
   void activate_map(std::int64_t id, Completion<MapInfo> done) override {
     MapInfo info;
     info.id = id;
     info.name = "lab";
     info.active = true;
-    answers_.complete(std::move(done), Result<MapInfo>(info));
+    answers_.complete(std::move(done), Result<MapInfo>(info), "activate_map");
   }
-  void delete_map(std::int64_t) override { answers_.check(); }
+  void delete_map(std::int64_t) override {
+    answers_.check();
+    answers_.record("delete_map");
+  }
 
   // Map 1 exists; zones are kept as given (the fake does not judge polygons).
   std::vector<mapping::KeepoutZone> zones;
@@ -154,10 +182,10 @@ class FakeMaps : public MapCatalogPort {
                                                     ErrorKind::kNotFound, "unknown_map", "none"}));
     }
     zones.push_back({static_cast<std::int64_t>(zones.size()) + 1, name, polygon});
-    answers_.complete(std::move(done), Result<std::int64_t>(zones.back().id));
+    answers_.complete(std::move(done), Result<std::int64_t>(zones.back().id), "add_zone");
   }
   void delete_zone(std::int64_t, std::int64_t, Completion<Done> done) override {
-    answers_.complete(std::move(done), Result<Done>(Done{}));
+    answers_.complete(std::move(done), Result<Done>(Done{}), "delete_zone");
   }
 
  private:
@@ -174,13 +202,13 @@ class FakeMapping : public MappingPort {
   MappingStatus mapping_status() const override { return status; }
   void start_mapping(Completion<MappingStatus> done) override {
     status.mapping = true;
-    answers_.complete(std::move(done), Result<MappingStatus>(status));
+    answers_.complete(std::move(done), Result<MappingStatus>(status), "start_mapping");
   }
   void stop_mapping(std::optional<std::string> save_as, Completion<MappingStopped> done) override {
     last_save_as = save_as;
     MappingStopped stopped;
     if (save_as) stopped.map_id = 5;
-    answers_.complete(std::move(done), Result<MappingStopped>(stopped));
+    answers_.complete(std::move(done), Result<MappingStopped>(stopped), "stop_mapping");
   }
 
  private:
@@ -198,10 +226,11 @@ class FakeLocalization : public LocalizationPort {
   }
   void set_localization_method(const std::string& name, Completion<std::string> done) override {
     method = name;
-    answers_.complete(std::move(done), Result<std::string>(name));
+    answers_.complete(std::move(done), Result<std::string>(name), "set_localization_method");
   }
   void localize_globally(Completion<std::string> done) override {
-    answers_.complete(std::move(done), Result<std::string>(std::string("particle_filter")));
+    answers_.complete(std::move(done), Result<std::string>(std::string("particle_filter")),
+                      "localize_globally");
   }
 
  private:
@@ -232,13 +261,17 @@ class FakeRuns : public RunArchivePort {
 // The token is the role's name.
 class FakeTokens : public TokenAdminPort {
  public:
-  std::optional<Role> authenticate(std::string_view token) override {
-    if (token == "viewer") return Role::kViewer;
-    if (token == "operator") return Role::kOperator;
-    if (token == "admin") return Role::kAdmin;
+  // Tokens "viewer", "operator", "admin" (ids 1, 2, 3), and "operator2" (id 4), another person.
+  std::optional<Caller> authenticate(std::string_view token) override {
+    if (token == "viewer") return Caller{1, Role::kViewer, "viewer"};
+    if (token == "operator") return Caller{2, Role::kOperator, "operator"};
+    if (token == "admin") return Caller{3, Role::kAdmin, "admin"};
+    if (token == "operator2") return Caller{4, Role::kOperator, "operator2"};
     return std::nullopt;
   }
+  int created = 0;  // tokens made
   std::pair<std::int64_t, std::string> create_token(Role, const std::string&) override {
+    ++created;
     return {1, "token"};
   }
   std::vector<TokenInfo> list_tokens() const override { return {}; }
@@ -255,7 +288,7 @@ class FakeSweeps : public SweepsPort {
     info.status = "running";
     info.period_s = request.period_s;
     info.step_deg = request.step_deg;
-    answers_.complete(std::move(done), Result<SweepInfo>(info));
+    answers_.complete(std::move(done), Result<SweepInfo>(info), "start_sweep");
   }
   std::vector<SweepInfo> list_sweeps() const override { return {}; }
   std::optional<SweepInfo> find_sweep(std::int64_t) const override { return std::nullopt; }
@@ -267,7 +300,10 @@ class FakeSweeps : public SweepsPort {
     answers_.check();
     return {};
   }
-  void delete_sweep(std::int64_t) override { answers_.check(); }
+  void delete_sweep(std::int64_t) override {
+    answers_.check();
+    answers_.record("delete_sweep");
+  }
 
  private:
   Answers& answers_;
@@ -287,30 +323,30 @@ class FakeSim : public SimControlPort {
   std::vector<WorldInfo> list_worlds() const override { return {{"lab", "a test world"}}; }
   SimTruth sim_truth() const override { return {}; }
   void sim_reset(const SimResetRequest&, Completion<Done> done) override {
-    answers_.complete(std::move(done), Result<Done>(Done{}));
+    answers_.complete(std::move(done), Result<Done>(Done{}), "sim_reset");
   }
-  void set_time_scale(double) override {}
+  void set_time_scale(double) override { answers_.record("set_time_scale"); }
   void add_sim_obstacle(const SimObstacleRequest&, Completion<int> done) override {
-    answers_.complete(std::move(done), Result<int>(7));
+    answers_.complete(std::move(done), Result<int>(7), "add_sim_obstacle");
   }
   void remove_sim_obstacle(int, Completion<Done> done) override {
-    answers_.complete(std::move(done), Result<Done>(Done{}));
+    answers_.complete(std::move(done), Result<Done>(Done{}), "remove_sim_obstacle");
   }
   std::optional<geometry::Pose2D> kidnapped_to;
   void kidnap(const geometry::Pose2D& pose, Completion<Done> done) override {
     kidnapped_to = pose;
-    answers_.complete(std::move(done), Result<Done>(Done{}));
+    answers_.complete(std::move(done), Result<Done>(Done{}), "kidnap");
   }
   void add_sim_target(const SimTargetRequest& request, Completion<int> done) override {
     last_target = request;
-    answers_.complete(std::move(done), Result<int>(1));
+    answers_.complete(std::move(done), Result<int>(1), "add_sim_target");
   }
   void remove_sim_target(int id, Completion<Done> done) override {
     if (id != 1) {
       return answers_.complete(std::move(done),
                                Result<Done>(DomainError{ErrorKind::kNotFound, "unknown_target", "no"}));
     }
-    answers_.complete(std::move(done), Result<Done>(Done{}));
+    answers_.complete(std::move(done), Result<Done>(Done{}), "remove_sim_target");
   }
   std::optional<SimTargetRequest> last_target;
 
@@ -321,6 +357,8 @@ class FakeSim : public SimControlPort {
 // A robot without a camera: every camera request is refused with no_camera.
 class FakeCamera : public CameraPort {
  public:
+  mutable std::atomic<int> refusals{0};  // as Answers::refusals
+
   std::optional<CameraDescription> camera() const override { return std::nullopt; }
   std::shared_ptr<const msgs::Image> snapshot() const override { throw DomainException(refusal()); }
   void set_pan_tilt(double, double, Completion<CameraDescription::Head> done) override {
@@ -335,7 +373,10 @@ class FakeCamera : public CameraPort {
   void stop_follow(Completion<Done> done) override { done(refusal()); }
 
  private:
-  static DomainError refusal() { return {ErrorKind::kNotFound, "no_camera", "no camera"}; }
+  DomainError refusal() const {
+    ++refusals;
+    return {ErrorKind::kNotFound, "no_camera", "no camera"};
+  }
 };
 
 struct FakePorts {

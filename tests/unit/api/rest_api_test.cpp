@@ -523,3 +523,67 @@ TEST_F(RestApiTest, KidnapMovesTheSimulatedRobotOnly) {
 
 }  // namespace
 }  // namespace mobot::api
+
+namespace mobot::api {
+namespace {
+
+// The operator lock over REST: one person drives at a time; the lock is taken by acquire or by the
+// first command, refused to another person with operator_busy, released by its holder, taken over
+// by an admin; a refused command changes nothing, a malformed one does not take the lock.
+TEST_F(RestApiTest, OnePersonDrivesAtATime) {
+  const auto operator_post = [&](const std::string& token, const std::string& body) {
+    return call(make_request(http::verb::post, "/api/v1/operator", token, body));
+  };
+  const auto holder = [&] {
+    return body_of(call(make_request(http::verb::get, "/api/v1/operator", "viewer"))).at("holder");
+  };
+  const auto teleop = [&](const std::string& token, const std::string& body) {
+    Replies replies;
+    api_.handle(make_request(http::verb::post, "/api/v1/teleop", token, body),
+                replies.responder(), ClientContext{11, "10.1.1.1:4000"});
+    return replies.wait().value_or(Response{});
+  };
+  EXPECT_TRUE(holder().is_null());
+  // A malformed command is refused before the lock: it stays free.
+  expect_error(teleop("operator2", R"({"v":"fast"})"), 400, "invalid_field");
+  EXPECT_TRUE(holder().is_null());
+  // The first command takes it.
+  EXPECT_EQ(teleop("operator", R"({"v":0.1,"w":0})").result_int(), 200U);
+  const json held = holder();
+  EXPECT_EQ(held.at("label"), "operator");
+  EXPECT_EQ(held.at("token_id"), 2);
+  EXPECT_EQ(held.at("role"), "operator");
+  EXPECT_EQ(held.at("client_id"), 11);
+  EXPECT_EQ(held.at("address"), "10.1.1.1:4000");
+  EXPECT_GT(held.at("since").get<double>(), 1.6e9);
+  // Somebody else is refused, for teleop, goals and the lock itself.
+  expect_error(teleop("operator2", R"({"v":0.1,"w":0})"), 409, "operator_busy");
+  expect_error(call(make_request(http::verb::post, "/api/v1/goals", "operator2",
+                                 R"({"x":1,"y":1})")),
+               409, "operator_busy");
+  expect_error(operator_post("operator2", R"({"action":"acquire"})"), 409, "operator_busy");
+  expect_error(operator_post("operator2", R"({"action":"release"})"), 409, "not_holder");
+  EXPECT_EQ(holder().at("label"), "operator");
+  // E-stop is never locked.
+  EXPECT_EQ(call(make_request(http::verb::post, "/api/v1/estop", "operator2",
+                              R"({"engaged":true})"))
+                .result_int(),
+            200U);
+  // Bad requests: a viewer, an operator taking over, an unknown action.
+  expect_error(operator_post("viewer", R"({"action":"acquire"})"), 403, "forbidden");
+  expect_error(operator_post("operator2", R"({"action":"take_over"})"), 403, "forbidden");
+  expect_error(operator_post("operator", R"({"action":"steal"})"), 400, "invalid_field");
+  expect_error(operator_post("operator", R"({})"), 400, "missing_field");
+  EXPECT_EQ(holder().at("label"), "operator");
+  // An admin takes over; the former holder is refused; the admin releases it.
+  const Response taken = operator_post("admin", R"({"action":"take_over"})");
+  EXPECT_EQ(taken.result_int(), 200U) << taken.body();
+  EXPECT_EQ(body_of(taken).at("holder").at("label"), "admin");
+  expect_error(teleop("operator", R"({"v":0.1,"w":0})"), 409, "operator_busy");
+  EXPECT_TRUE(body_of(operator_post("admin", R"({"action":"release"})")).at("holder").is_null());
+  EXPECT_EQ(body_of(operator_post("operator2", R"({"action":"acquire"})")).at("holder").at("label"),
+            "operator2");
+}
+
+}  // namespace
+}  // namespace mobot::api

@@ -5,16 +5,10 @@
 // closed for idleness; a map is encoded outside the hub's lock; a camera client that caps the
 // JPEG quality gets the frames compressed again, once per quality asked, with the camera's seq.
 #include <gtest/gtest.h>
-#include <sys/socket.h>
 
 #include <atomic>
-#include <boost/asio/executor_work_guard.hpp>
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/read.hpp>
-#include <boost/asio/strand.hpp>
-#include <boost/asio/write.hpp>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -27,81 +21,16 @@
 
 #include "api/frame_codec.h"
 #include "api/stream_hub.h"
-#include "api/stream_session.h"
 #include "api/websocket_frames.h"
-#include "fake_ports.h"
+#include "stream_session_harness.h"
 
 namespace mobot::api {
 namespace {
 
-using boost::asio::ip::tcp;
 using namespace std::chrono_literals;
-
-struct Frame {
-  unsigned opcode = 0;
-  std::string payload;
-};
-
-// A blocking WebSocket client on the test thread.
-class Client {
- public:
-  Client(boost::asio::io_context& io, const tcp::endpoint& server, int receive_buffer = 0)
-      : socket_(io) {
-    socket_.open(tcp::v4());
-    if (receive_buffer > 0) {
-      socket_.set_option(boost::asio::socket_base::receive_buffer_size(receive_buffer));
-    }
-    socket_.connect(server);
-    const timeval timeout{5, 0};
-    ::setsockopt(socket_.native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  }
-
-  void send_text(const std::string& text, bool masked = true) { send(0x1, text, masked); }
-  void send_pong(const std::string& payload) { send(0xA, payload, true); }
-
-  // One short frame (below 126 bytes) with FIN set.
-  void send(unsigned opcode, const std::string& payload, bool masked) {
-    std::string frame;
-    frame.push_back(static_cast<char>(0x80U | opcode));
-    frame.push_back(static_cast<char>((masked ? 0x80U : 0x00U) | payload.size()));
-    if (masked) frame.append(4, '\0');  // a zero mask leaves the payload as it is
-    frame += payload;
-    boost::asio::write(socket_, boost::asio::buffer(frame));
-  }
-
-  // The next frame, or nullopt on a closed connection or after the 5 s receive time-out.
-  std::optional<Frame> read() {
-    std::array<unsigned char, 10> header{};
-    if (!read_exactly(header.data(), 2)) return std::nullopt;
-    std::uint64_t length = header[1] & 0x7FU;
-    if (length == 126 || length == 127) {
-      const std::size_t extra = length == 126 ? 2 : 8;
-      if (!read_exactly(header.data() + 2, extra)) return std::nullopt;
-      length = 0;
-      for (std::size_t i = 0; i < extra; ++i) length = (length << 8) | header[2 + i];
-    }
-    Frame frame{header[0] & 0x0FU, std::string(length, '\0')};
-    if (!read_exactly(frame.payload.data(), frame.payload.size())) return std::nullopt;
-    return frame;
-  }
-
-  // Reads until a text frame containing `text`.
-  bool read_until(const std::string& text) {
-    while (auto frame = read()) {
-      if (frame->payload.find(text) != std::string::npos) return true;
-    }
-    return false;
-  }
-
- private:
-  bool read_exactly(void* data, std::size_t bytes) {
-    boost::system::error_code error;
-    boost::asio::read(socket_, boost::asio::buffer(data, bytes), error);
-    return !error;
-  }
-
-  tcp::socket socket_;
-};
+using test::Client;
+using test::Frame;
+using test::metric;
 
 std::int64_t json_int_after(const std::string& text, const std::string& key) {
   const auto at = text.find(key);
@@ -109,51 +38,16 @@ std::int64_t json_int_after(const std::string& text, const std::string& key) {
   return std::strtoll(text.c_str() + at + key.size(), nullptr, 10);
 }
 
-std::uint64_t metric(const StreamHub& hub, const std::string& name) {
-  const std::string text = hub.metrics_text();
-  const auto at = text.find("\n" + name + " ");
-  if (at == std::string::npos) return 0;
-  return std::stoull(text.substr(at + name.size() + 2));
-}
-
-class StreamHubTest : public ::testing::Test {
+class StreamHubTest : public test::StreamSessionTest {
  protected:
-  StreamHubTest() : StreamHubTest(StreamOptions{}) {}
-  explicit StreamHubTest(const StreamOptions& options)
-      : hub_(options),
-        work_(boost::asio::make_work_guard(io_)),
-        acceptor_(io_, tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), 0)) {
-    hub_.set_executor(io_.get_executor(), 2);
-    for (int i = 0; i < 2; ++i) threads_.emplace_back([this] { io_.run(); });
-  }
+  StreamHubTest() = default;
+  explicit StreamHubTest(const StreamOptions& options) : test::StreamSessionTest(options) {}
 
-  // The test's clients are gone by now: their sessions see the connection end and leave the hub,
-  // and the io threads run out of work once the last of them is released.
-  ~StreamHubTest() override {
-    const auto deadline = std::chrono::steady_clock::now() + 5s;
-    while (metric(hub_, "mobot_stream_clients") > 0 &&
-           std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(5ms);
-    }
-    EXPECT_EQ(metric(hub_, "mobot_stream_clients"), 0U) << "sessions outlived their clients";
-    work_.reset();
-    while (!io_.stopped() && std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(5ms);
-    }
-    io_.stop();
-    for (auto& thread : threads_) thread.join();
-  }
-
-  // A client whose server side is a started session that has said hello.
-  std::unique_ptr<Client> open(Role role = Role::kViewer, int receive_buffer = 0) {
-    auto client = std::make_unique<Client>(client_io_, acceptor_.local_endpoint(), receive_buffer);
-    tcp::socket server_side(boost::asio::make_strand(io_));
-    acceptor_.accept(server_side);
-    std::make_shared<StreamSession>(std::move(server_side), hub_, robot_.ports(simulated_), role,
-                                    "")
-        ->start();
-    EXPECT_TRUE(client->read_until(R"("op":"hello")"));
-    return client;
+  // A stream peer registered as GET /api/v1/clients would list it.
+  StreamPeer peer(const Caller& caller) {
+    auto registration = hub_.clients().open("127.0.0.1:1", 0.0);
+    const ClientContext client{registration->id(), "127.0.0.1:1"};
+    return StreamPeer{caller, client, std::move(registration)};
   }
 
   // An open client subscribed to `topics` in binary.
@@ -162,16 +56,6 @@ class StreamHubTest : public ::testing::Test {
     client->send_text(R"({"op":"subscribe","topics":[)" + topics + "]}");
     EXPECT_TRUE(client->read_until(R"("op":"subscribed")"));
     return client;
-  }
-
-  // Waits up to 5 s for the hub to have `clients` sessions.
-  bool wait_for_clients(std::uint64_t clients) {
-    const auto deadline = std::chrono::steady_clock::now() + 5s;
-    while (metric(hub_, "mobot_stream_clients") != clients) {
-      if (std::chrono::steady_clock::now() > deadline) return false;
-      std::this_thread::sleep_for(5ms);
-    }
-    return true;
   }
 
   void publish_pose(double t_s) {
@@ -189,15 +73,6 @@ class StreamHubTest : public ::testing::Test {
     }
     return seqs;
   }
-
-  test::FakePorts robot_;
-  bool simulated_ = true;  // whether the sessions opened next get the simulator's port
-  StreamHub hub_;
-  boost::asio::io_context io_;
-  boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_;
-  tcp::acceptor acceptor_;
-  std::vector<std::thread> threads_;
-  boost::asio::io_context client_io_;
 };
 
 TEST_F(StreamHubTest, EveryClientGetsEveryTickInOrder) {

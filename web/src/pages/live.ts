@@ -65,6 +65,8 @@ export class LivePage {
   truth: { pose: Pose2D; collisions: number } | null = null;
   /** What the map draws for the robot (from /robot's kinematics and geometry). */
   body: RobotBody = DIFFERENTIAL;
+  /** Why teleop is refused here (somebody else holds the operator lock); null while it is not. */
+  teleopLock: string | null = null;
   private events: RobotEvent[] = [];
   private eventsDirty = false;
   private poseDirty = false;
@@ -237,6 +239,20 @@ export class LivePage {
     byId('teleop-ack').textContent = `ack ${fmt(v)} m/s · ${fmt(w)} rad/s`;
   }
 
+  /**
+   * Somebody else holds the operator lock (`reason` says who) or nobody does (null): the teleop card
+   * stays visible but dimmed, says why, and shows a drive input as refused.
+   */
+  setTeleopLock(reason: string | null): void {
+    this.teleopLock = reason;
+    const card = byId('teleop-panel');
+    card.classList.toggle('locked', reason !== null);
+    const note = byId('teleop-locked');
+    note.hidden = reason === null;
+    note.textContent = reason ?? '';
+    byId('joystick').title = reason ?? 'Drag to drive';
+  }
+
   setTruthAvailable(available: boolean): void {
     byId('layer-truth-label').hidden = !available;
     if (!available) this.mapView.layers.truth.set(null);
@@ -246,8 +262,11 @@ export class LivePage {
 
   private showTeleop(command: Command | null, source: TeleopSource | null): void {
     const el = byId('teleop-cmd');
-    el.textContent = command ? `${source} ${fmt(command.v)} m/s · ${fmt(command.w)} rad/s` : 'idle';
-    el.classList.toggle('driving', !!command);
+    // A command the operator lock keeps from being sent is shown as refused, not as driving.
+    const refused = !!command && this.teleopLock !== null;
+    el.textContent = command ? `${refused ? 'refused: ' : ''}${source} ${fmt(command.v)} m/s · ${fmt(command.w)} rad/s` : 'idle';
+    el.classList.toggle('driving', !!command && !refused);
+    el.classList.toggle('refused', refused);
   }
 
   private refreshText(): void {

@@ -63,6 +63,14 @@ TEST(MapImageCodec, RejectsGarbageEmptyAndOversizedImages) {
   EXPECT_THROW(decode_map_image(pgm(1, 1, {255}), 0.0, {}, {}, 100), MapImageError);
 }
 
+TEST(MapImageCodec, AHeaderOpenCvRefusesIsAMapImageError) {
+  // Found by tests/fuzz/map_image_fuzz.cpp: OpenCV throws its own exception for a side over 2^20
+  // pixels (within the cell limit here), which reached the REST client as a 500.
+  const std::string text = "P2\n3 5555551\n255\n0 0 0\n";
+  const std::vector<std::uint8_t> bytes(text.begin(), text.end());
+  EXPECT_THROW(decode_map_image(bytes, 0.05, {}, {}, 25'000'000), MapImageError);
+}
+
 TEST(MapImageCodec, YamlNamesImageResolutionAndOrigin) {
   const OccupancyGrid grid(2, 2, 0.05, {-3.5, 1.25, 0});
   const std::string yaml = encode_map_yaml(grid, "map.pgm");

@@ -1,0 +1,41 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/json_request.h"
+#include "api/ports/token_admin_port.h"
+
+namespace mobot::api {
+
+// The ops a stream client sends as JSON text messages (docs/api.md, "Client ops"), parsed and
+// checked before the session acts on any of them.
+struct SubscribeRequest {
+  std::vector<std::string> topics;  // as given: the session knows which exist
+  bool binary = true;
+  std::int64_t min_interval_us = 0;  // from max_rate_hz; 0: every frame
+  int camera_quality = 0;            // 0: the camera's own
+};
+
+struct UnsubscribeRequest {
+  std::vector<std::string> topics;
+};
+
+struct PingRequest {
+  nlohmann::json id;  // echoed in the pong; null when absent
+};
+
+using StreamRequest =
+    std::variant<SubscribeRequest, UnsubscribeRequest, TeleopRequest, PingRequest>;
+
+// One client message. Throws ApiError with the code the session answers with: malformed_json,
+// missing_op, unknown_op, invalid_topics, invalid_encoding, invalid_field, missing_field and, for
+// a teleop from a client below the operator role, forbidden (before its fields are looked at).
+StreamRequest parse_stream_request(std::string_view text, Role role);
+
+}  // namespace mobot::api

@@ -1,0 +1,63 @@
+// libFuzzer target: a stream client's JSON text messages as the session parses them
+// (api/stream_request: parse_stream_request, with json_request's field checks), for a viewer and
+// an operator. Beyond not crashing: the only exception is ApiError with a documented code, and
+// what is accepted is within the documented ranges (the session acts on it unchecked).
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <set>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "api/api_error.h"
+#include "api/stream_request.h"
+
+namespace {
+
+using namespace mobot::api;
+
+void check(bool condition) {
+  if (!condition) __builtin_trap();
+}
+
+// docs/api.md, "Client ops": the error codes a message is answered with.
+bool is_documented(const ApiError& error) {
+  static const std::set<std::string> kCodes{"malformed_json", "missing_op",       "unknown_op",
+                                            "invalid_topics", "invalid_encoding", "invalid_field",
+                                            "missing_field"};
+  if (error.code() == "forbidden") return error.http_status() == 403;
+  return error.http_status() == 400 && kCodes.contains(error.code());
+}
+
+void check_accepted(const StreamRequest& request, Role role) {
+  if (const auto* subscribe = std::get_if<SubscribeRequest>(&request)) {
+    // 0.1 .. 1000 Hz, or every frame.
+    check(subscribe->min_interval_us == 0 ||
+          (subscribe->min_interval_us >= 1000 && subscribe->min_interval_us <= 10'000'000));
+    check(subscribe->camera_quality >= 0 && subscribe->camera_quality <= 100);
+  } else if (const auto* teleop = std::get_if<TeleopRequest>(&request)) {
+    check(role >= Role::kOperator);
+    check(std::isfinite(teleop->twist.linear_mps) && std::abs(teleop->twist.linear_mps) <= 100);
+    check(std::isfinite(teleop->twist.angular_radps) &&
+          std::abs(teleop->twist.angular_radps) <= 100);
+    check(teleop->ttl_ms >= 50 && teleop->ttl_ms <= 1000);
+  } else if (const auto* ping = std::get_if<PingRequest>(&request)) {
+    // The pong echoes the id; the session writes it with invalid UTF-8 replaced.
+    ping->id.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  for (const Role role : {Role::kViewer, Role::kOperator}) {
+    try {
+      check_accepted(parse_stream_request(text, role), role);
+    } catch (const ApiError& error) {
+      check(is_documented(error));
+    }
+  }
+  return 0;
+}
