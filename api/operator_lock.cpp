@@ -52,9 +52,17 @@ Result<OperatorHolder> OperatorLock::take_over(const Claimant& who, Clock::time_
 
 Result<OperatorHolder> OperatorLock::command(const Claimant& who, Clock::time_point now,
                                              double now_unix_s) {
+  auto change = claim(who, now, now_unix_s);
+  if (!change.ok()) return change.error();
+  return change.value().after;
+}
+
+Result<OperatorLock::Change> OperatorLock::claim(const Claimant& who, Clock::time_point now,
+                                                 double now_unix_s) {
   std::lock_guard lock(mutex_);
   if (lapsed_locked(now)) holder_.reset();
   if (holder_ && holder_->claimant.caller.token_id != who.caller.token_id) return busy_locked();
+  Change change{{}, holder_, last_command_};
   if (!holder_) {
     holder_ = OperatorHolder{who, now_unix_s};
   } else {
@@ -63,7 +71,19 @@ Result<OperatorHolder> OperatorLock::command(const Claimant& who, Clock::time_po
     holder_->claimant.address = who.address;
   }
   last_command_ = now;
-  return *holder_;
+  change.after = *holder_;
+  return change;
+}
+
+void OperatorLock::undo(const Change& change) {
+  std::lock_guard lock(mutex_);
+  const auto same = [](const OperatorHolder& a, const OperatorHolder& b) {
+    return a.claimant.caller.token_id == b.claimant.caller.token_id &&
+           a.claimant.client_id == b.claimant.client_id && a.since_unix_s == b.since_unix_s;
+  };
+  if (!holder_ || !same(*holder_, change.after)) return;
+  holder_ = change.before;
+  last_command_ = change.before_last_command;
 }
 
 void OperatorLock::connection_closed(std::uint64_t client_id) {

@@ -34,6 +34,13 @@ class OperatorLock {
  public:
   using Clock = std::chrono::steady_clock;
 
+  // What a command changed in the lock, so that a command the robot refuses changes nothing.
+  struct Change {
+    OperatorHolder after;
+    std::optional<OperatorHolder> before;
+    Clock::time_point before_last_command{};
+  };
+
   explicit OperatorLock(std::chrono::milliseconds dead_man = std::chrono::seconds(10));
 
   // Takes a free lock (or the own one). kConflict operator_busy when another person holds it.
@@ -46,6 +53,11 @@ class OperatorLock {
   // A driving command (teleop, a goal): as acquire, and the holder's dead-man starts again. The
   // lock follows the connection the command came on, so that closing it lets the lock go.
   Result<OperatorHolder> command(const Claimant& who, Clock::time_point now, double now_unix_s);
+  // command(), and what it changed.
+  Result<Change> claim(const Claimant& who, Clock::time_point now, double now_unix_s);
+  // Puts back what a claim changed, unless the lock has changed since (another command, a
+  // release, a take-over): the robot refused the command it was for.
+  void undo(const Change& change);
   // The connection closed: a lock last used on it (as a stream) lapses.
   void connection_closed(std::uint64_t client_id);
   std::optional<OperatorHolder> holder(Clock::time_point now) const;

@@ -166,13 +166,14 @@ Response RestApi::robot(const Request& request) const {
 
 Handled RestApi::teleop(const Request& request, const Replier& reply) {
   const TeleopRequest command = parse_teleop(parse_json_body(request.body()));
-  require_driver(request, reply);
+  const OperatorLock::Change lock = require_driver(request, reply);
   ports_.control.teleop(
       command.twist, command.ttl_ms,
-      reply.completion<msgs::Twist>([](const Request& head, const msgs::Twist& applied) {
+      undo_if_refused(lock, reply.completion<msgs::Twist>([](const Request& head,
+                                                             const msgs::Twist& applied) {
         return json_response(head, http::status::ok,
                              {{"v", applied.linear_mps}, {"w", applied.angular_radps}});
-      }));
+      })));
   return kReplyLater;
 }
 

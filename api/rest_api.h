@@ -74,7 +74,15 @@ class RestApi {
   Caller require_role(const Request& request, Role needed) const;
   // A driving command (teleop, goals, follow): the operator role and the operator lock, which a
   // free lock gives at once; kConflict operator_busy while somebody else holds it.
-  void require_driver(const Request& request, const Replier& reply);
+  OperatorLock::Change require_driver(const Request& request, const Replier& reply);
+  // The Completion of a driving command: one the robot refuses leaves the lock as it was.
+  template <class T>
+  Completion<T> undo_if_refused(const OperatorLock::Change& change, Completion<T> done) {
+    return [lock = &hub_.operator_lock(), change, done = std::move(done)](Result<T> result) {
+      if (!result.ok()) lock->undo(change);
+      done(std::move(result));
+    };
+  }
   Response route_operator(const Request& request, const Segments& path, const Replier& reply);
   // The connection learns who its client is from any request that authenticates.
   void identify_client(const Request& request, const ClientContext& client);

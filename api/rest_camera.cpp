@@ -138,8 +138,9 @@ Handled RestApi::route_follow(const Request& request, const Segments& path,
     require_camera();
     const double distance_m =
         require_number(parse_json_body(request.body()), "distance_m", 0.5, 5.0);
-    require_driver(request, reply);
-    ports_.camera.start_follow(distance_m, reply.completion<Done>(answer(true)));
+    const OperatorLock::Change lock = require_driver(request, reply);
+    ports_.camera.start_follow(distance_m,
+                               undo_if_refused(lock, reply.completion<Done>(answer(true))));
     return kReplyLater;
   }
   if (request.method() == http::verb::delete_) {

@@ -98,12 +98,13 @@ Handled RestApi::route_goals(const Request& request, const Segments& path, const
 
 Handled RestApi::submit_goal(const Request& request, const Replier& reply) {
   const GoalRequest goal_request = parse_goal(parse_json_body(request.body()), ports_.control);
-  require_driver(request, reply);
+  const OperatorLock::Change lock = require_driver(request, reply);
   ports_.control.submit_goal(
       goal_request,
-      reply.completion<navigation::Goal>([](const Request& head, const navigation::Goal& goal) {
+      undo_if_refused(lock, reply.completion<navigation::Goal>([](const Request& head,
+                                                                  const navigation::Goal& goal) {
         return json_response(head, http::status::created, goal_json(goal));
-      }));
+      })));
   return kReplyLater;
 }
 

@@ -33,10 +33,10 @@ const T& granted(const Result<T>& result) {
 
 }  // namespace
 
-void RestApi::require_driver(const Request& request, const Replier& reply) {
+OperatorLock::Change RestApi::require_driver(const Request& request, const Replier& reply) {
   const Caller caller = require_role(request, Role::kOperator);
-  granted(hub_.operator_lock().command(claimant_of(caller, reply.client()), OperatorLock::Clock::now(),
-                                 unix_now_s()));
+  return granted(hub_.operator_lock().claim(claimant_of(caller, reply.client()),
+                                            OperatorLock::Clock::now(), unix_now_s()));
 }
 
 Response RestApi::route_operator(const Request& request, const Segments& path,

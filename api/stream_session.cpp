@@ -311,14 +311,16 @@ void StreamSession::count_sent(std::size_t frames, std::size_t bytes) {
 
 void StreamSession::carry_out(const TeleopRequest& command) {
   const Claimant who{peer_.caller, peer_.client.id, true, peer_.client.address};
-  if (auto held = hub_.operator_lock().command(who, OperatorLock::Clock::now(), unix_now_s());
-      !held.ok()) {
-    throw DomainException(held.error());
-  }
+  auto claimed = hub_.operator_lock().claim(who, OperatorLock::Clock::now(), unix_now_s());
+  if (!claimed.ok()) throw DomainException(claimed.error());
   // The command completes on the control loop. The reply is written from the strand, not from the
   // control loop's thread, and only while the session lives: a closed session is not kept for it.
+  // A command the robot refuses leaves the operator lock as it was, session or not.
   ports_.control.teleop(
-      command.twist, command.ttl_ms, [weak = weak_from_this()](Result<msgs::Twist> result) {
+      command.twist, command.ttl_ms,
+      [weak = weak_from_this(), lock = &hub_.operator_lock(),
+       change = std::move(claimed.value())](Result<msgs::Twist> result) {
+        if (!result.ok()) lock->undo(change);
         const auto self = weak.lock();
         if (!self) return;
         try {

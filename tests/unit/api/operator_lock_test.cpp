@@ -83,5 +83,22 @@ TEST_F(OperatorLockTest, TheDeadManLapsesTenSecondsAfterTheLastCommand) {
   EXPECT_EQ(bobs.value().since_unix_s, 1019.0);
 }
 
+TEST_F(OperatorLockTest, AClaimTheRobotRefusedIsUndoneUnlessTheLockMovedOn) {
+  const auto taken = lock_.claim(alice(1), t0_, 1000.0);
+  ASSERT_TRUE(taken.ok());
+  lock_.undo(taken.value());
+  EXPECT_FALSE(lock_.holder(t0_).has_value()) << "a free lock is free again";
+  ASSERT_TRUE(lock_.command(alice(1), t0_, 1000.0).ok());
+  const auto moved = lock_.claim(alice(5, true), t0_ + 1s, 1001.0);
+  ASSERT_TRUE(moved.ok());
+  lock_.undo(moved.value());
+  EXPECT_EQ(lock_.holder(t0_ + 1s)->claimant.client_id, 1U) << "back on the connection it was on";
+  // Once the lock has changed hands, an old claim's undo does nothing.
+  const auto stale = lock_.claim(alice(1), t0_ + 2s, 1002.0);
+  ASSERT_TRUE(lock_.take_over(carol_admin(), t0_ + 3s, 1003.0).ok());
+  lock_.undo(stale.value());
+  EXPECT_EQ(lock_.holder(t0_ + 3s)->claimant.caller.label, "carol");
+}
+
 }  // namespace
 }  // namespace mobot::api

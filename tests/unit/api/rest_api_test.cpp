@@ -529,7 +529,7 @@ namespace {
 
 // The operator lock over REST: one person drives at a time; the lock is taken by acquire or by the
 // first command, refused to another person with operator_busy, released by its holder, taken over
-// by an admin; a refused command changes nothing, a malformed one does not take the lock.
+// by an admin; a malformed command, or one the robot refuses, does not take the lock.
 TEST_F(RestApiTest, OnePersonDrivesAtATime) {
   const auto operator_post = [&](const std::string& token, const std::string& body) {
     return call(make_request(http::verb::post, "/api/v1/operator", token, body));
@@ -547,6 +547,11 @@ TEST_F(RestApiTest, OnePersonDrivesAtATime) {
   // A malformed command is refused before the lock: it stays free.
   expect_error(teleop("operator2", R"({"v":"fast"})"), 400, "invalid_field");
   EXPECT_TRUE(holder().is_null());
+  // Nor does a command the robot refuses (e-stop engaged, say).
+  robot_.answers.refusal = DomainError{ErrorKind::kConflict, "estop_engaged", "e-stop"};
+  expect_error(teleop("operator2", R"({"v":0.1,"w":0})"), 409, "estop_engaged");
+  EXPECT_TRUE(holder().is_null());
+  robot_.answers.refusal.reset();
   // The first command takes it.
   EXPECT_EQ(teleop("operator", R"({"v":0.1,"w":0})").result_int(), 200U);
   const json held = holder();
