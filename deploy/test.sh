@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds everything, and runs every test: unit and API tests (CTest,
 # each API test starts a real mobotd --backend sim --port 0, or --backend hardware against the
-# device emulators), bounded fuzzing of the device parsers, the dashboard's unit tests (Vitest)
+# device emulators), bounded fuzzing of every parser of outside bytes, the dashboard's unit tests (Vitest)
 # and the browser test (Debian's Chromium driven by playwright-core).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -30,7 +30,7 @@ build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
 build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
 unset TSAN_OPTIONS
 
-echo "== bounded fuzzing: every parser of device bytes (libFuzzer, clang), 5 s each"
+echo "== bounded fuzzing: every parser of device and client bytes (libFuzzer, clang), 5 s each"
 mkdir -p build-fuzz
 if ! CXX=clang++ cmake -S . -B build-fuzz -DMOBOT_FUZZ=ON >build-fuzz/cmake-configure.log 2>&1; then
   cat build-fuzz/cmake-configure.log >&2
