@@ -7,13 +7,16 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 
+# Each phase says when it starts, in seconds since the run began: CI has 25 minutes for all of it.
+phase() { echo "== [${SECONDS} s] $*"; }
+
 "$ROOT/deploy/setup.sh"
 "$ROOT/deploy/build.sh" --tests
 
-echo "== unit and API tests"
+phase "unit and API tests"
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 300
 
-echo "== thread sanitizer: the api and server unit tests (stream hub, sessions, runtime, stages)"
+phase "thread sanitizer: the api and server unit tests (stream hub, sessions, runtime, stages)"
 # A build of its own: the network threads, the control loop and the workers share no lock, and
 # this keeps it so.
 mkdir -p build-tsan
@@ -30,25 +33,25 @@ build-tsan/tests/unit/mobot_api_tests --gtest_brief=1
 build-tsan/tests/unit/mobot_server_tests --gtest_brief=1
 unset TSAN_OPTIONS
 
-echo "== bounded fuzzing: every parser of device and client bytes (libFuzzer, clang), 5 s each"
+phase "bounded fuzzing: every parser of device and client bytes (libFuzzer, clang), 3 s each"
 mkdir -p build-fuzz
 if ! CXX=clang++ cmake -S . -B build-fuzz -DMOBOT_FUZZ=ON >build-fuzz/cmake-configure.log 2>&1; then
   cat build-fuzz/cmake-configure.log >&2
   exit 1
 fi
 cmake --build build-fuzz -j"$(nproc)"
-tests/fuzz/run_fuzzers.sh build-fuzz -max_total_time=5
+tests/fuzz/run_fuzzers.sh build-fuzz -max_total_time=3
 
-echo "== reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3, E5)"
+phase "reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3, E5)"
 build/tests/bench/mobot_umbmark
 build/tests/bench/mobot_fusion_table
-echo "== online SLAM on the simulated Dashgo office tour (docs/algorithms.md E5)"
+phase "online SLAM on the simulated Dashgo office tour (docs/algorithms.md E5)"
 build/tests/bench/mobot_slam_office_tour --seeds 2
 
-echo "== dashboard unit tests"
+phase "dashboard unit tests"
 (cd web && npm test --silent)
 
-echo "== browser test"
+phase "browser test"
 node tests/web/dashboard.test.mjs --mobotd "$ROOT/build/server/mobotd"
 
-echo "== all tests passed"
+phase "all tests passed"
