@@ -35,6 +35,7 @@ import { chromium } from 'playwright-core';
 import { cameraSteps, REPO_ROOT } from './camera_steps.mjs';
 import { mappingLocalizationZoneSteps, Skip } from './mapping_steps.mjs';
 import { operatorSteps } from './operator_steps.mjs';
+import { restProbe } from './rest_probe.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const OUT_DIR = join(HERE, 'out');
@@ -139,19 +140,8 @@ function makePgm(width, height) {
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
 async function rest(base, token, method, path, body) {
-  const response = await fetch(base + path, {
-    method,
-    headers: { Authorization: `Bearer ${token}`, ...(body ? { 'Content-Type': 'application/json' } : {}) },
-    body: body ? JSON.stringify(body) : undefined,
-  });
-  const text = await response.text();
-  let json = null;
-  try {
-    json = JSON.parse(text);
-  } catch {
-    // not JSON
-  }
-  if (!response.ok) throw new Error(`${method} ${path} -> ${response.status} ${text.slice(0, 200)}`);
+  const { status, json, text } = await restProbe(base, token, method, path, body);
+  if (status < 200 || status > 299) throw new Error(`${method} ${path} -> ${status} ${text.slice(0, 200)}`);
   return json;
 }
 

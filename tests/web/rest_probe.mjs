@@ -1,5 +1,5 @@
 // A REST request whose refusal is part of what a step checks: the status, the error code and the
-// body, never a throw (dashboard.test.mjs's rest() throws on anything but 2xx).
+// body, never a throw (dashboard.test.mjs's rest() is this, throwing on anything but 2xx).
 export async function restProbe(base, token, method, path, body) {
   const response = await fetch(base + path, {
     method,
