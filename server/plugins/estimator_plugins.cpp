@@ -87,6 +87,7 @@ estimation::ParticleFilterOptions read_particle_filter_options(const YAML::Node&
   int global_particles = static_cast<int>(filter.global_particles);
   reader.integer("global_particles", global_particles, 10, 10000000);
   filter.global_particles = static_cast<std::size_t>(global_particles);
+  reader.number("global_search_exponent", filter.global_search_exponent, 0.001, 1.0);
   int weighed_per_update = static_cast<int>(filter.max_weighed_per_update);
   reader.integer("max_weighed_per_update", weighed_per_update, 0, 10000000);
   filter.max_weighed_per_update = static_cast<std::size_t>(weighed_per_update);

@@ -27,6 +27,7 @@ void validate(const ParticleFilterOptions& options) {
       !(options.kidnap_probability >= 0.0) || !(options.kidnap_probability <= 1.0) ||
       !(options.recovery_min_fraction >= 0.0) || !(options.recovery_min_fraction < 1.0) ||
       options.converged_min_updates < 1 || options.global_particles < 1 ||
+      !(options.global_search_exponent > 0.0) || !(options.global_search_exponent <= 1.0) ||
       !non_negative(options.off_map_log_penalty)) {
     throw std::invalid_argument("particle filter: option out of range");
   }
@@ -93,6 +94,7 @@ bool ParticleFilter::initialize(const geometry::Pose2D& pose, const Eigen::Matri
         {{pose.x + d.x(), pose.y + d.y(), geometry::wrap_angle(pose.theta + d.z())}, weight});
   }
   start_over(odom_pose);
+  global_search_ = false;
   estimate_ = {pose.x, pose.y, geometry::wrap_angle(pose.theta)};
   return true;
 }
@@ -109,6 +111,7 @@ bool ParticleFilter::initialize_global(const geometry::Pose2D& odom_pose) {
   for (std::size_t i = 0; i < count; ++i)
     particles_.push_back({map_.free_space->sample(rng_), weight});
   start_over(odom_pose);
+  global_search_ = true;
   return true;
 }
 
@@ -170,11 +173,12 @@ FilterUpdate ParticleFilter::continue_weighing() {
   // A particle e^-40 below the best so far is nothing the resampling keeps: its free rays need
   // no walk (BeamLikelihood::log_likelihood).
   constexpr double kNegligibleLog = 40.0;
+  const double negligible_log = kNegligibleLog / likelihood_exponent();
   const LikelihoodField& field = laser_->field();
   for (std::size_t i = pending.weighed; i < end; ++i) {
     particles_[i].pose = motion_.sample(pending.step, particles_[i].pose, rng_);
     const geometry::Pose2D& pose = particles_[i].pose;
-    double value = laser_->log_likelihood(pending.scan, pose, pending.best - kNegligibleLog);
+    double value = laser_->log_likelihood(pending.scan, pose, pending.best - negligible_log);
     if (!field.open_at({pose.x, pose.y})) value -= options_.off_map_log_penalty;
     log_likelihoods_[i] = value;
     pending.best = std::max(pending.best, value);
@@ -198,8 +202,13 @@ void ParticleFilter::finish_update(const geometry::Pose2D& predicted, std::size_
   force_update_ = false;
   ++updates_since_start_;
   settled_updates_ = settled_now() ? settled_updates_ + 1 : 0;
+  if (converged()) global_search_ = false;
   ++sensor_updates_;
   last_beam_count_ = beams;
+}
+
+double ParticleFilter::likelihood_exponent() const {
+  return global_search_ ? options_.global_search_exponent : 1.0;
 }
 
 bool ParticleFilter::moved_enough(const geometry::Pose2D& odom_pose) const {
@@ -221,11 +230,12 @@ void ParticleFilter::move_particles(const geometry::Pose2D& odom_pose) {
 void ParticleFilter::resample_weighed(const PreparedScan& scan, double best) {
   const std::size_t beams = scan.beam_count();
   // Relative to the best particle, so that a product of 60 beams does not underflow.
+  const double exponent = likelihood_exponent();
   double total = 0.0;
   double agreement = 0.0;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     WeightedPose& particle = particles_[i];
-    particle.weight *= std::exp(log_likelihoods_[i] - best);
+    particle.weight *= std::exp(exponent * (log_likelihoods_[i] - best));
     total += particle.weight;
     agreement += particle.weight * laser_->beam_agreement(log_likelihoods_[i], beams);
   }

@@ -30,10 +30,11 @@ struct Room {
   std::vector<Box> boxes;
   double width_m = 10.0;
   double height_m = 8.0;
+  bool has_stub = true;
 
   bool free(double x, double y) const {
     if (x <= 0.0 || y <= 0.0 || x >= width_m || y >= height_m) return false;
-    if (std::abs(x - 6.0) < 0.05 && y <= 3.0) return false;
+    if (has_stub && std::abs(x - 6.0) < 0.05 && y <= 3.0) return false;
     return std::none_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.contains(x, y); });
   }
 };
@@ -43,6 +44,20 @@ inline Room asymmetric_room() {
   room.walls = estimation_sim::rectangle_room(0.0, 0.0, room.width_m, room.height_m);
   room.walls.push_back({{6.0, 0.0}, {6.0, 3.0}});
   room.boxes = {{2.0, 5.0, 3.0, 6.0}, {7.0, 6.0, 8.0, 7.0}};
+  for (const Box& b : room.boxes) {
+    const auto box_walls = estimation_sim::rectangle_room(b.x0, b.y0, b.x1, b.y1);
+    room.walls.insert(room.walls.end(), box_walls.begin(), box_walls.end());
+  }
+  return room;
+}
+
+// The same room without the stub and with its boxes placed so that turning it half round about
+// its centre maps it onto itself: every pose has a twin that sees the same scan.
+inline Room half_turn_symmetric_room() {
+  Room room;
+  room.has_stub = false;
+  room.walls = estimation_sim::rectangle_room(0.0, 0.0, room.width_m, room.height_m);
+  room.boxes = {{2.0, 5.0, 3.0, 6.0}, {7.0, 2.0, 8.0, 3.0}};
   for (const Box& b : room.boxes) {
     const auto box_walls = estimation_sim::rectangle_room(b.x0, b.y0, b.x1, b.y1);
     room.walls.insert(room.walls.end(), box_walls.begin(), box_walls.end());
