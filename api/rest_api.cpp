@@ -51,17 +51,14 @@ std::size_t RestApi::body_limit(http::verb method, std::string_view target) {
 }
 
 void RestApi::handle(const Request& request, Responder respond, ClientContext client) {
-  const Replier reply(
-      request,
-      [this, respond = std::move(respond)](Response response) {
-        count_response(response.result_int());
-        respond(std::move(response));
-      },
-      std::move(client));
-  reply.answer([&] {
-    identify_client(request, reply.client());
-    return dispatch(request, reply);
-  });
+  const std::optional<Caller> caller = identify_client(request, client);
+  Responder counted = [this, respond = std::move(respond)](Response response) {
+    count_response(response.result_int());
+    respond(std::move(response));
+  };
+  Responder respond_audited = audited(request, caller, client, std::move(counted));
+  const Replier reply(request, std::move(respond_audited), std::move(client));
+  reply.answer([&] { return dispatch(request, reply); });
 }
 
 Handled RestApi::dispatch(const Request& request, const Replier& reply) {
@@ -169,11 +166,15 @@ Handled RestApi::teleop(const Request& request, const Replier& reply) {
   const OperatorLock::Change lock = require_driver(request, reply);
   ports_.control.teleop(
       command.twist, command.ttl_ms,
-      undo_if_refused(lock, reply.completion<msgs::Twist>([](const Request& head,
-                                                             const msgs::Twist& applied) {
-        return json_response(head, http::status::ok,
-                             {{"v", applied.linear_mps}, {"w", applied.angular_radps}});
-      })));
+      undo_if_refused(lock, audit_drive(lock.after.claimant, command.ttl_ms,
+                                        reply.completion<msgs::Twist>([](const Request& head,
+                                                                         const msgs::Twist&
+                                                                             applied) {
+                                          return json_response(
+                                              head, http::status::ok,
+                                              {{"v", applied.linear_mps},
+                                               {"w", applied.angular_radps}});
+                                        }))));
   return kReplyLater;
 }
 

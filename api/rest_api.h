@@ -13,6 +13,7 @@
 #include "api/ports/ports.h"
 #include "api/rest_reply.h"
 #include "api/stream_hub.h"
+#include "api/teleop_lease.h"
 
 namespace mobot::api {
 
@@ -84,8 +85,15 @@ class RestApi {
     };
   }
   Response route_operator(const Request& request, const Segments& path, const Replier& reply);
-  // The connection learns who its client is from any request that authenticates.
-  void identify_client(const Request& request, const ClientContext& client);
+  // The connection learns who its client is from any request that authenticates; who that is.
+  std::optional<Caller> identify_client(const Request& request, const ClientContext& client);
+  // `respond`, or for a command (a request that changes something) a responder that records a
+  // successful one in the audit trail before it sends the response.
+  Responder audited(const Request& request, const std::optional<Caller>& caller,
+                    const ClientContext& client, Responder respond);
+  // A teleop's Completion that notes the drive's start or stop in the audit trail.
+  Completion<msgs::Twist> audit_drive(const Claimant& who, int ttl_ms,
+                                      Completion<msgs::Twist> done);
   Response list_clients(const Request& request) const;
 
   Response health(const Request& request) const;
@@ -125,6 +133,7 @@ class RestApi {
   StreamHub& hub_;
   RestOptions options_;
   std::array<std::atomic<std::uint64_t>, 6> responses_by_class_{};
+  TeleopLeases rest_drives_;  // the REST drives, for their audit
 
 };
 

@@ -4,13 +4,14 @@
 
 namespace mobot::api {
 
-void RestApi::identify_client(const Request& request, const ClientContext& client) {
-  if (client.id == 0) return;
+std::optional<Caller> RestApi::identify_client(const Request& request,
+                                               const ClientContext& client) {
   const std::string token = bearer_token(request);
-  if (token.empty()) return;
+  if (token.empty()) return std::nullopt;
   const auto caller = ports_.tokens.authenticate(token);
-  if (!caller) return;
+  if (!caller || client.id == 0) return caller;
   if (const auto record = hub_.clients().find(client.id)) record->identify(*caller);
+  return caller;
 }
 
 Response RestApi::list_clients(const Request& request) const {

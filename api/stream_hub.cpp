@@ -5,17 +5,12 @@
 #include <chrono>
 
 #include "api/goal_json.h"
+#include "api/wall_clock.h"
 #include "api/stream_session.h"
 #include "api/websocket_frames.h"
 
 namespace mobot::api {
 namespace {
-
-std::int64_t wall_clock_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 std::shared_ptr<const std::string> as_text_frame(std::string payload) {
   return std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kText, payload));
@@ -455,6 +450,12 @@ std::string StreamHub::metrics_text() const {
       "# HELP mobot_stream_frames_dropped_total Frames dropped for clients that read too slowly.\n";
   out += "# TYPE mobot_stream_frames_dropped_total counter\n";
   out += "mobot_stream_frames_dropped_total " + std::to_string(frames_dropped_.load()) + "\n";
+  out +=
+      "# HELP mobot_stream_messages_rate_limited_total Client messages dropped for coming faster "
+      "than the rate limit.\n";
+  out += "# TYPE mobot_stream_messages_rate_limited_total counter\n";
+  out += "mobot_stream_messages_rate_limited_total " +
+         std::to_string(messages_rate_limited_.load()) + "\n";
   return out;
 }
 

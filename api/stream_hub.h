@@ -38,6 +38,15 @@ struct StreamOptions {
   // turns the check off.
   int ping_interval_ms = 15000;
   int idle_timeout_ms = 45000;
+  // Every client is pinged this often with the time in the ping, and its pong gives the round
+  // trip (GET /api/v1/clients); while it drives, at half its lease's ttl, so that a link that
+  // stalls is told from an operator who stopped sending. Zero: only while it drives.
+  int round_trip_ping_interval_ms = 2000;
+  // Messages (text, binary, pings) a client may send: this many a second on average, this many at
+  // once. A joystick sends 20 to 60 a second. Beyond it a message is dropped (an error reply at
+  // most once a second), except an e-stop, which is always carried out.
+  double client_messages_per_s = 100.0;
+  double client_message_burst = 200.0;
   std::array<double, kTopicCount> nominal_rate_hz{};  // advertised in the hello
   bool simulated = true;
 };
@@ -127,6 +136,7 @@ class StreamHub {
 
   void count_sent(std::uint64_t frames, std::uint64_t bytes);
   void count_dropped() { frames_dropped_.fetch_add(1, std::memory_order_relaxed); }
+  void count_rate_limited() { messages_rate_limited_.fetch_add(1, std::memory_order_relaxed); }
   std::string metrics_text() const;
 
  private:
@@ -183,6 +193,7 @@ class StreamHub {
   std::atomic<std::uint64_t> frames_sent_{0};
   std::atomic<std::uint64_t> bytes_sent_{0};
   std::atomic<std::uint64_t> frames_dropped_{0};
+  std::atomic<std::uint64_t> messages_rate_limited_{0};
   std::atomic<std::uint64_t> sessions_opened_{0};
   OperatorLock operator_lock_;
   ClientRegistry clients_;

@@ -35,9 +35,31 @@ SubscribeRequest parse_subscribe(const nlohmann::json& request) {
   return subscribe;
 }
 
-TeleopRequest parse_stream_teleop(const nlohmann::json& request, Role role) {
+// JavaScript's numbers count whole numbers exactly up to 2^53 - 1.
+constexpr std::uint64_t kMaxSeq = (std::uint64_t{1} << 53) - 1;
+
+std::optional<std::uint64_t> optional_seq(const nlohmann::json& request) {
+  const auto field = request.find("seq");
+  if (field == request.end()) return std::nullopt;
+  if (field->is_number_unsigned() && field->get<std::uint64_t>() <= kMaxSeq) {
+    return field->get<std::uint64_t>();
+  }
+  if (field->is_number_integer() && field->get<std::int64_t>() == 0) return 0;
+  throw ApiError(400, "invalid_field", "'seq' must be a whole number from 0 to 2^53 - 1");
+}
+
+StreamTeleopRequest parse_stream_teleop(const nlohmann::json& request, Role role) {
   if (role < Role::kOperator) throw ApiError(403, "forbidden", "teleop needs the operator role");
-  return parse_teleop(request);
+  StreamTeleopRequest teleop;
+  teleop.command = parse_teleop(request);
+  teleop.seq = optional_seq(request);
+  teleop.sent_ms = optional_number(request, "sent_ms", 0.0, 1e15);
+  return teleop;
+}
+
+EstopRequest parse_stream_estop(const nlohmann::json& request, Role role) {
+  if (role < Role::kOperator) throw ApiError(403, "forbidden", "estop needs the operator role");
+  return EstopRequest{require_bool(request, "engaged")};
 }
 
 }  // namespace
@@ -57,6 +79,7 @@ StreamRequest parse_stream_request(std::string_view text, Role role) {
   if (op == "subscribe") return parse_subscribe(request);
   if (op == "unsubscribe") return UnsubscribeRequest{topic_names(request, "unsubscribe")};
   if (op == "teleop") return parse_stream_teleop(request, role);
+  if (op == "estop") return parse_stream_estop(request, role);
   if (op == "ping") {
     const auto id = request.find("id");
     return PingRequest{id == request.end() ? nlohmann::json(nullptr) : *id};

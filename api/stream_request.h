@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -30,12 +31,25 @@ struct PingRequest {
   nlohmann::json id;  // echoed in the pong; null when absent
 };
 
-using StreamRequest =
-    std::variant<SubscribeRequest, UnsubscribeRequest, TeleopRequest, PingRequest>;
+// A teleop on the stream is a lease: `seq` orders a connection's commands (one not above the last
+// is dropped), `sent_ms` is the client's clock when it sent it, echoed for its round trip.
+struct StreamTeleopRequest {
+  TeleopRequest command;
+  std::optional<std::uint64_t> seq;
+  std::optional<double> sent_ms;
+};
+
+struct EstopRequest {
+  bool engaged = true;
+};
+
+using StreamRequest = std::variant<SubscribeRequest, UnsubscribeRequest, StreamTeleopRequest,
+                                   PingRequest, EstopRequest>;
 
 // One client message. Throws ApiError with the code the session answers with: malformed_json,
 // missing_op, unknown_op, invalid_topics, invalid_encoding, invalid_field, missing_field and, for
-// a teleop from a client below the operator role, forbidden (before its fields are looked at).
+// a teleop or an e-stop from a client below the operator role, forbidden (before its fields are
+// looked at).
 StreamRequest parse_stream_request(std::string_view text, Role role);
 
 }  // namespace mobot::api

@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "api/api_error.h"
+#include "api/teleop_audit.h"
 #include "api/wall_clock.h"
 
 namespace mobot::api {
@@ -18,6 +19,13 @@ constexpr double kRateTolerance = 0.8;
 
 // RFC 6455 7.4.1: the endpoint is going away, here because its peer has gone silent.
 constexpr std::uint16_t kGoingAway = 1001;
+
+// The lease of the standing command that stops a drive whose stream closed: the shortest teleop.
+constexpr int kStoppingTtl_ms = 50;
+
+// Over its rate a client's messages are dropped unread, except texts this short, which are parsed
+// in case they are an e-stop (`{"op":"estop","engaged":true}` and spaces).
+constexpr std::size_t kLargestEstopBytes = 256;
 
 // A client that capped the camera's quality takes the copy made at its cap, or the camera's own
 // frame when that is not above the cap (or cannot be made smaller); the others take the camera's.
@@ -38,7 +46,9 @@ StreamSession::StreamSession(boost::asio::ip::tcp::socket socket, StreamHub& hub
       already_received_(std::move(already_received)),
       timer_(socket_.get_executor()),
       last_heard_(Clock::now()),
-      last_ping_(last_heard_) {}
+      last_ping_(last_heard_),
+      last_round_trip_ping_(last_heard_),
+      message_budget_(hub.options().client_messages_per_s, hub.options().client_message_burst) {}
 
 StreamSession::~StreamSession() {
   for (std::size_t i = 0; i < kTopicCount; ++i) {
@@ -151,19 +161,32 @@ bool StreamSession::process_received(std::string_view bytes) {
   return true;
 }
 
+bool StreamSession::checks_liveness() const {
+  return hub_.options().ping_interval_ms > 0 && hub_.options().idle_timeout_ms > 0;
+}
+
 void StreamSession::watch_client() {
-  if (hub_.options().ping_interval_ms <= 0 || hub_.options().idle_timeout_ms <= 0) return;
-  timer_.expires_at(next_check());
+  const Clock::time_point next = next_check();
+  if (next == Clock::time_point::max()) return;
+  timer_.expires_at(next);
   timer_.async_wait([self = shared_from_this()](boost::system::error_code error) {
     if (!error) self->check_client();
   });
 }
 
 StreamSession::Clock::time_point StreamSession::next_check() const {
-  const std::chrono::milliseconds ping_interval(hub_.options().ping_interval_ms);
-  const std::chrono::milliseconds idle_timeout(hub_.options().idle_timeout_ms);
-  if (idle_closed_) return Clock::now() + ping_interval;
-  return std::min(last_heard_ + idle_timeout, std::max(last_heard_, last_ping_) + ping_interval);
+  Clock::time_point next = Clock::time_point::max();
+  if (checks_liveness()) {
+    const std::chrono::milliseconds ping_interval(hub_.options().ping_interval_ms);
+    const std::chrono::milliseconds idle_timeout(hub_.options().idle_timeout_ms);
+    next = idle_closed_ ? Clock::now() + ping_interval
+                        : std::min(last_heard_ + idle_timeout,
+                                   std::max(last_heard_, last_ping_) + ping_interval);
+  }
+  const Clock::duration round_trip = round_trip_ping_interval();
+  if (round_trip > Clock::duration::zero()) next = std::min(next, last_round_trip_ping_ + round_trip);
+  if (watching_lease_) next = std::min(next, lease_.until());
+  return next;
 }
 
 void StreamSession::check_client() {
@@ -171,31 +194,95 @@ void StreamSession::check_client() {
     std::lock_guard lock(mutex_);
     if (closed_) return;
   }
-  if (idle_closed_) {
-    // The close frame did not get out: a client that neither reads nor writes is let go anyway.
-    shut_down();
-    return;
-  }
   const auto now = Clock::now();
-  if (now - last_heard_ >= std::chrono::milliseconds(hub_.options().idle_timeout_ms)) {
-    idle_closed_ = true;
-    close(kGoingAway, "idle timeout");
-  } else if (now - std::max(last_heard_, last_ping_) >=
-             std::chrono::milliseconds(hub_.options().ping_interval_ms)) {
-    // RFC 6455 5.5.2: a client answers a ping with a pong, so a client that is there is heard.
-    last_ping_ = now;
-    queue_control(std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPing, "")));
+  if (watching_lease_ && now >= lease_.until()) check_lease(now);
+  if (checks_liveness()) {
+    if (idle_closed_) {
+      // The close frame did not get out: a client that neither reads nor writes is let go anyway.
+      shut_down();
+      return;
+    }
+    if (now - last_heard_ >= std::chrono::milliseconds(hub_.options().idle_timeout_ms)) {
+      idle_closed_ = true;
+      close(kGoingAway, "idle timeout");
+    } else if (now - std::max(last_heard_, last_ping_) >=
+               std::chrono::milliseconds(hub_.options().ping_interval_ms)) {
+      // RFC 6455 5.5.2: a client answers a ping with a pong, so a client that is there is heard.
+      last_ping_ = now;
+      queue_control(std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPing, "")));
+    }
+  }
+  const Clock::duration round_trip = round_trip_ping_interval();
+  if (!idle_closed_ && round_trip > Clock::duration::zero() &&
+      now - last_round_trip_ping_ >= round_trip) {
+    ping_for_round_trip(now);
   }
   watch_client();
 }
 
+StreamSession::Clock::duration StreamSession::round_trip_ping_interval() const {
+  Clock::duration interval = std::chrono::milliseconds(hub_.options().round_trip_ping_interval_ms);
+  if (watching_lease_) {
+    const Clock::duration half_ttl = (lease_.until() - lease_.last_command()) / 2;
+    if (interval <= Clock::duration::zero() || half_ttl < interval) interval = half_ttl;
+  }
+  return interval;
+}
+
+void StreamSession::ping_for_round_trip(Clock::time_point now) {
+  last_round_trip_ping_ = now;
+  last_ping_ = now;
+  const auto sent_us = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count());
+  std::string payload(8, '\0');
+  for (int i = 0; i < 8; ++i) payload[static_cast<std::size_t>(i)] = static_cast<char>(sent_us >> (56 - 8 * i));
+  queue_control(std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPing, payload)));
+}
+
+void StreamSession::on_pong(std::string_view payload) {
+  // Only the answer to one of our round-trip pings carries 8 bytes; RFC 6455 5.5.3 lets a client
+  // send pongs of its own, which tell nothing.
+  if (payload.size() != 8) return;
+  std::uint64_t sent_us = 0;
+  for (const char byte : payload) sent_us = (sent_us << 8) | static_cast<unsigned char>(byte);
+  const auto now_us = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch())
+          .count());
+  if (sent_us > now_us || now_us - sent_us > 60'000'000) return;
+  if (ClientRecord* record = peer_.registration.record().get()) {
+    record->set_rtt_ms(static_cast<double>(now_us - sent_us) / 1000.0);
+  }
+}
+
+bool StreamSession::within_rate(const WsMessage& message) {
+  const auto now = Clock::now();
+  over_rate_ = !message_budget_.take(now);
+  if (!over_rate_) return true;
+  hub_.count_rate_limited();
+  if (now - last_rate_notice_ >= std::chrono::seconds(1)) {
+    last_rate_notice_ = now;
+    reply_error("rate_limited", "more than " +
+                                    std::to_string(static_cast<int>(
+                                        hub_.options().client_messages_per_s)) +
+                                    " messages a second: messages are dropped");
+  }
+  // A short text may be an e-stop, which goes whatever the rate; anything else is dropped unread.
+  return message.opcode == WsOpcode::kText && message.payload.size() <= kLargestEstopBytes;
+}
+
 void StreamSession::handle_message(WsMessage message) {
+  const bool counted = message.opcode == WsOpcode::kText || message.opcode == WsOpcode::kBinary ||
+                       message.opcode == WsOpcode::kPing;
+  over_rate_ = false;
+  if (counted && !within_rate(message)) return;
+  if (over_rate_ && message.opcode == WsOpcode::kPing) return;
   switch (message.opcode) {
     case WsOpcode::kPing:
       queue_control(
           std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPong, message.payload)));
       return;
     case WsOpcode::kPong:
+      on_pong(message.payload);
       return;
     case WsOpcode::kClose:
       // RFC 6455 5.5.1: answered with a close frame echoing the client's status code; the TCP
@@ -217,17 +304,21 @@ void StreamSession::handle_message(WsMessage message) {
 
 void StreamSession::handle_text(const std::string& text) {
   try {
-    std::visit([this](const auto& request) { carry_out(request); },
-               parse_stream_request(text, peer_.caller.role));
+    StreamRequest request = parse_stream_request(text, peer_.caller.role);
+    if (over_rate_ && !std::holds_alternative<EstopRequest>(request)) return;
+    std::visit([this](const auto& parsed) { carry_out(parsed); }, request);
   } catch (const ApiError& error) {
-    reply_error(error.code(), error.what());
+    if (!over_rate_) reply_error(error.code(), error.what());
   } catch (const DomainException& error) {
-    reply_error(error.error().code, error.error().message);
+    if (!over_rate_) reply_error(error.error().code, error.error().message);
   }
 }
 
 void StreamSession::carry_out(const PingRequest& request) {
-  reply({{"op", "pong"}, {"t", ports_.control.time_s()}, {"id", request.id}});
+  reply({{"op", "pong"},
+         {"t", ports_.control.time_s()},
+         {"wall_us", wall_clock_us()},
+         {"id", request.id}});
 }
 
 void StreamSession::carry_out(const SubscribeRequest& request) {
@@ -309,36 +400,103 @@ void StreamSession::count_sent(std::size_t frames, std::size_t bytes) {
   if (ClientRecord* record = peer_.registration.record().get()) record->add_sent(bytes);
 }
 
-void StreamSession::carry_out(const TeleopRequest& command) {
-  const Claimant who{peer_.caller, peer_.client.id, true, peer_.client.address};
-  auto claimed = hub_.operator_lock().claim(who, OperatorLock::Clock::now(), unix_now_s());
+Claimant StreamSession::claimant() const {
+  return Claimant{peer_.caller, peer_.client.id, true, peer_.client.address};
+}
+
+void StreamSession::carry_out(const StreamTeleopRequest& request) {
+  if (request.seq) {
+    // A command that is not the connection's newest (a client's retry, a replay) is dropped.
+    if (last_seq_ && *request.seq <= *last_seq_) {
+      throw ApiError(409, "stale_seq",
+                     "seq " + std::to_string(*request.seq) + " is not above the last one (" +
+                         std::to_string(*last_seq_) + "): the command is dropped");
+    }
+    last_seq_ = request.seq;
+  }
+  auto claimed = hub_.operator_lock().claim(claimant(), OperatorLock::Clock::now(), unix_now_s());
   if (!claimed.ok()) throw DomainException(claimed.error());
   // The command completes on the control loop. The reply is written from the strand, not from the
   // control loop's thread, and only while the session lives: a closed session is not kept for it.
   // A command the robot refuses leaves the operator lock as it was, session or not.
   ports_.control.teleop(
-      command.twist, command.ttl_ms,
-      [weak = weak_from_this(), lock = &hub_.operator_lock(),
-       change = std::move(claimed.value())](Result<msgs::Twist> result) {
+      request.command.twist, request.command.ttl_ms,
+      [weak = weak_from_this(), lock = &hub_.operator_lock(), change = std::move(claimed.value()),
+       request](Result<msgs::Twist> result) {
         if (!result.ok()) lock->undo(change);
         const auto self = weak.lock();
         if (!self) return;
         try {
           boost::asio::post(self->socket_.get_executor(),
-                            [self, result = std::move(result)] { self->reply_teleop(result); });
+                            [self, result = std::move(result), request] {
+                              if (result.ok()) {
+                                self->note_drive(result.value(), request.command.ttl_ms);
+                              }
+                              self->reply_teleop(result, request);
+                            });
         } catch (...) {
           // Out of memory: the reply is lost, the control loop is not.
         }
       });
 }
 
-void StreamSession::reply_teleop(const Result<msgs::Twist>& result) {
+void StreamSession::reply_teleop(const Result<msgs::Twist>& result,
+                                 const StreamTeleopRequest& request) {
   if (!result.ok()) {
     reply_error(result.error().code, result.error().message);
     return;
   }
   const msgs::Twist& applied = result.value();
-  reply({{"op", "teleop"}, {"v", applied.linear_mps}, {"w", applied.angular_radps}});
+  nlohmann::json message{{"op", "teleop"}, {"v", applied.linear_mps}, {"w", applied.angular_radps}};
+  if (request.seq) message["seq"] = *request.seq;
+  if (request.sent_ms) message["sent_ms"] = *request.sent_ms;
+  reply(message);
+}
+
+void StreamSession::note_drive(const msgs::Twist& applied, int ttl_ms) {
+  const TeleopLease::Change change = lease_.note(applied, ttl_ms, Clock::now());
+  audit_drive_change(ports_.audit, claimant(), change);
+  watching_lease_ = lease_.driving();
+  if (watching_lease_) watch_client();
+}
+
+void StreamSession::check_lease(Clock::time_point now) {
+  watching_lease_ = false;
+  if (!lease_.driving() || lease_.running(now)) return;
+  // The control loop stopped the robot when the lease lapsed; the trail says why it lapsed.
+  audit_drive_end(ports_.audit, claimant(),
+                  last_heard_ <= lease_.last_command() ? "link_stalled" : "lease_lapsed");
+}
+
+void StreamSession::carry_out(const EstopRequest& request) {
+  // Carried out as it is read, never behind the lock, and its reply goes ahead of every frame
+  // queued for this client; like REST's, it is acknowledged once it is in the run's audit trail.
+  ports_.control.set_estop(
+      request.engaged, [weak = weak_from_this(), audit = &ports_.audit, who = claimant(),
+                        engaged = request.engaged](Result<bool> result) {
+        if (!result.ok()) {
+          if (const auto refused = weak.lock()) {
+            boost::asio::post(refused->socket_.get_executor(), [refused, error = result.error()] {
+              refused->reply_error(error.code, error.message);
+            });
+          }
+          return;
+        }
+        CommandRecord record;
+        record.command = "estop";
+        record.via = "stream";
+        record.caller = who.caller;
+        record.address = who.address;
+        record.client_id = who.client_id;
+        record.request_json = nlohmann::json{{"engaged", engaged}}.dump();
+        audit->record_command(std::move(record), [weak, state = result.value()](Result<Done>) {
+          const auto self = weak.lock();
+          if (!self) return;
+          boost::asio::post(self->socket_.get_executor(), [self, state] {
+            self->reply({{"op", "estop"}, {"engaged", state}});
+          });
+        });
+      });
 }
 
 void StreamSession::reply(const nlohmann::json& message) {
@@ -492,6 +650,12 @@ void StreamSession::close_socket() {
     }
     socket_closed_ = true;
   }
+  // A drive whose stream is gone stops now, not when its lease lapses: its operator is gone.
+  if (watching_lease_ && lease_.running(Clock::now())) {
+    ports_.control.teleop({}, kStoppingTtl_ms, [](Result<msgs::Twist>) {});
+    audit_drive_end(ports_.audit, claimant(), "stream_closed");
+  }
+  watching_lease_ = false;
   // The liveness check holds the session: without it, the session is released.
   timer_.cancel();
   boost::system::error_code ignored;

@@ -6,6 +6,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,8 @@
 #include "api/stream_hub.h"
 #include "api/stream_request.h"
 #include "api/stream_topics.h"
+#include "api/teleop_lease.h"
+#include "api/token_bucket.h"
 #include "api/websocket_frames.h"
 
 namespace mobot::api {
@@ -64,20 +67,34 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   // Parses received bytes and handles the messages; false once the client broke the protocol
   // (the session is then closing with the parser's code).
   bool process_received(std::string_view bytes);
+  bool checks_liveness() const;
   void watch_client();
   void check_client();
   Clock::time_point next_check() const;
   void handle_message(WsMessage message);
   void handle_text(const std::string& text);
+  // Whether a message may be handled at the client's rate; counts and reports one that may not.
+  bool within_rate(const WsMessage& message);
   // Queues the close frame after what is queued already; nothing is sent after it.
   void queue_close(std::string frame);
   bool is_closing();
   // The parsed client ops (api/stream_request.h), carried out.
   void carry_out(const SubscribeRequest& request);
   void carry_out(const UnsubscribeRequest& request);
-  void carry_out(const TeleopRequest& request);
+  void carry_out(const StreamTeleopRequest& request);
   void carry_out(const PingRequest& request);
-  void reply_teleop(const Result<msgs::Twist>& result);
+  void carry_out(const EstopRequest& request);
+  void reply_teleop(const Result<msgs::Twist>& result, const StreamTeleopRequest& request);
+  // On the strand, once the robot took a teleop: the drive's lease and its audit.
+  void note_drive(const msgs::Twist& applied, int ttl_ms);
+  // At the lease's end with no command after it: the drive ended, because the link stalled
+  // (nothing at all heard since the command) or the operator stopped sending.
+  void check_lease(Clock::time_point now);
+  // A ping whose payload is the time it was sent, answered by a pong that gives the round trip.
+  void ping_for_round_trip(Clock::time_point now);
+  void on_pong(std::string_view payload);
+  Clock::duration round_trip_ping_interval() const;
+  Claimant claimant() const;
   // The subscribed topics, for GET /api/v1/clients.
   void note_topics();
   void count_sent(std::size_t frames, std::size_t bytes);
@@ -108,6 +125,15 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   Clock::time_point last_heard_;
   Clock::time_point last_ping_;
   bool idle_closed_ = false;  // closed for silence: released at the next check if still open
+  Clock::time_point last_round_trip_ping_;
+  TokenBucket message_budget_;
+  Clock::time_point last_rate_notice_{};
+  bool over_rate_ = false;  // the message being handled came over the rate: only an e-stop goes
+
+  // The client's teleop lease, on the strand.
+  std::optional<std::uint64_t> last_seq_;
+  TeleopLease lease_;
+  bool watching_lease_ = false;  // a drive's lease runs: its end is checked
 
   std::mutex mutex_;  // guards the subscription and outgoing state below
   std::array<Subscription, kTopicCount> subscriptions_{};

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 
 namespace mobot::api {
 
@@ -8,6 +9,14 @@ namespace mobot::api {
 // as times of day. The robot's own time is the control loop's clock, never this.
 inline double unix_now_s() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// Microseconds since the Unix epoch: the stream's `wall_us`, which a client compares with its own
+// clock (after estimating the offset from a pong's) to tell how old what it shows is.
+inline std::int64_t wall_clock_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 }  // namespace mobot::api

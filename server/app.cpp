@@ -158,6 +158,7 @@ App::App(Config config)
   localization_ = std::make_unique<LocalizationService>(runtime, *recorder_, robot_->estimate(),
                                                         robot_->plugins());
   run_archive_ = std::make_unique<RunArchive>(runs_, *recorder_, runtime);
+  audit_ = std::make_unique<CommandAudit>(runtime, *recorder_);
   camera_ = std::make_unique<CameraService>(runtime, *recorder_, robot_->tracking(),
                                             robot_->follow(), robot_->navigate(),
                                             robot_->backend().drivers().pan_tilt.get());
@@ -182,7 +183,7 @@ App::~App() { shut_down(); }
 
 api::Ports App::ports() {
   return {*control_, *map_catalog_, *mapping_, *localization_, *run_archive_,
-          *token_admin_, *sweeps_, *this, *camera_, sim_.get()};
+          *token_admin_, *sweeps_, *this, *camera_, *audit_, sim_.get()};
 }
 
 void App::ensure_admin_token() {

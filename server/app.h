@@ -29,6 +29,7 @@
 #include "server/services/mapping_service.h"
 #include "server/services/run_archive.h"
 #include "server/services/camera_service.h"
+#include "server/services/command_audit.h"
 #include "server/services/sim_service.h"
 #include "server/services/token_admin.h"
 #include "server/sweeps.h"
@@ -73,6 +74,7 @@ class App final : public api::SystemPort {
   std::unique_ptr<MappingService> mapping_;
   std::unique_ptr<LocalizationService> localization_;
   std::unique_ptr<RunArchive> run_archive_;
+  std::unique_ptr<CommandAudit> audit_;
   std::unique_ptr<TokenAdmin> token_admin_;
   std::unique_ptr<SimService> sim_;
   std::unique_ptr<CameraService> camera_;

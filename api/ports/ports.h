@@ -1,5 +1,6 @@
 #pragma once
 
+#include "api/ports/audit_port.h"
 #include "api/ports/camera_port.h"
 #include "api/ports/control_port.h"
 #include "api/ports/localization_port.h"
@@ -25,6 +26,7 @@ struct Ports {
   SweepsPort& sweeps;
   SystemPort& system;
   CameraPort& camera;
+  AuditPort& audit;
   SimControlPort* sim = nullptr;
 };
 

@@ -64,6 +64,9 @@ TEST(ControlLoopLoad, FiftyClientsHammeringRestAndPingDoNotMakeTheLoopLate) {
         stream.send({{"op", "ping"}, {"id", i * 1000000 + id++}});
         ++requests;
         if (!stream.read_until("pong", 2s)) ++failures;
+        // Each stream is held to 100 messages a second (beyond that they are dropped): just
+        // below it, ten of them.
+        std::this_thread::sleep_for(11ms);
       }
     });
   }

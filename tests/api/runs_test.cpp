@@ -152,12 +152,20 @@ TEST_F(RunsTest, EventsAreRecordedInOrder) {
     EXPECT_GE(event.at("t").get<double>(), previous_t);
     previous_t = event.at("t").get<double>();
   }
-  const json& engaged = events.at(events.size() - 2);
-  const json& released = events.back();
+  // Each e-stop change, then its audit record (the command, committed before its reply).
+  ASSERT_GE(events.size(), 4U);
+  const json& engaged = events.at(events.size() - 4);
+  const json& engaged_command = events.at(events.size() - 3);
+  const json& released = events.at(events.size() - 2);
+  const json& released_command = events.back();
   EXPECT_EQ(engaged.at("kind"), "estop");
   EXPECT_EQ(engaged.at("detail"), (json{{"engaged", true}}));
+  EXPECT_EQ(engaged_command.at("kind"), "command");
+  EXPECT_EQ(engaged_command.at("detail").at("command"), "POST /api/v1/estop");
   EXPECT_EQ(released.at("kind"), "estop");
   EXPECT_EQ(released.at("detail"), (json{{"engaged", false}}));
+  EXPECT_EQ(released_command.at("kind"), "command");
+  EXPECT_EQ(released_command.at("detail").at("request"), (json{{"engaged", false}}));
 }
 
 TEST_F(RunsTest, SensorsReportTheirRatesInRobotTime) {

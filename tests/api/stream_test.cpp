@@ -307,6 +307,11 @@ TEST_F(StreamTest, EstopEventsArrive) {
   EXPECT_EQ(event->at("data").at("kind"), "estop");
   EXPECT_EQ(event->at("data").at("detail"), (json{{"engaged", true}}));
   EXPECT_TRUE(event->at("data").at("t").is_number());
+  // The audit trail's record of the command follows the change it made.
+  event = client.read_until("events", 5s);
+  ASSERT_TRUE(event.has_value());
+  EXPECT_EQ(event->at("data").at("kind"), "command");
+  EXPECT_EQ(event->at("data").at("detail").at("command"), "POST /api/v1/estop");
   ASSERT_EQ(operator_client().post("/api/v1/estop", json{{"engaged", false}}).status, 200);
   event = client.read_until("events", 5s);
   ASSERT_TRUE(event.has_value());
@@ -453,6 +458,8 @@ TEST_F(StreamTest, TeleopOverTheStream) {
   while (robot_time(viewer()) < t0 + 1.0) {
     client.send({{"op", "teleop"}, {"v", 0.5}, {"w", 0.0}});
     ASSERT_TRUE(client.read_until("teleop", 5s).has_value());
+    // A joystick's pace: a client is held to 100 messages a second.
+    std::this_thread::sleep_for(20ms);
   }
   const json moved = sim_truth(viewer()).at("pose");
   EXPECT_GT(moved.at("x").get<double>() - start.at("x").get<double>(), 0.2);

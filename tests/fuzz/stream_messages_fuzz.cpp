@@ -36,12 +36,18 @@ void check_accepted(const StreamRequest& request, Role role) {
     check(subscribe->min_interval_us == 0 ||
           (subscribe->min_interval_us >= 1000 && subscribe->min_interval_us <= 10'000'000));
     check(subscribe->camera_quality >= 0 && subscribe->camera_quality <= 100);
-  } else if (const auto* teleop = std::get_if<TeleopRequest>(&request)) {
+  } else if (const auto* stream_teleop = std::get_if<StreamTeleopRequest>(&request)) {
+    const TeleopRequest* teleop = &stream_teleop->command;
     check(role >= Role::kOperator);
     check(std::isfinite(teleop->twist.linear_mps) && std::abs(teleop->twist.linear_mps) <= 100);
     check(std::isfinite(teleop->twist.angular_radps) &&
           std::abs(teleop->twist.angular_radps) <= 100);
     check(teleop->ttl_ms >= 50 && teleop->ttl_ms <= 1000);
+    check(!stream_teleop->seq || *stream_teleop->seq < (std::uint64_t{1} << 53));
+    check(!stream_teleop->sent_ms ||
+          (std::isfinite(*stream_teleop->sent_ms) && *stream_teleop->sent_ms >= 0.0));
+  } else if (std::holds_alternative<EstopRequest>(request)) {
+    check(role >= Role::kOperator);
   } else if (const auto* ping = std::get_if<PingRequest>(&request)) {
     // The pong echoes the id; the session writes it with invalid UTF-8 replaced.
     ping->id.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);

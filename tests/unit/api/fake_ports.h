@@ -379,6 +379,26 @@ class FakeCamera : public CameraPort {
   }
 };
 
+// Keeps what it is asked to record, and completes at once.
+class FakeAudit : public AuditPort {
+ public:
+  void record_command(CommandRecord record, Completion<Done> done) override {
+    {
+      std::lock_guard lock(mutex_);
+      records_.push_back(std::move(record));
+    }
+    done(Done{});
+  }
+  std::vector<CommandRecord> records() const {
+    std::lock_guard lock(mutex_);
+    return records_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<CommandRecord> records_;
+};
+
 struct FakePorts {
   Answers answers;
   FakeControl control{answers};
@@ -391,11 +411,12 @@ struct FakePorts {
   FakeSystem system;
   FakeSim sim{answers};
   FakeCamera camera;
+  FakeAudit audit;
 
   // The doors into this fake robot, with or without the simulator's.
   Ports ports(bool simulated = true) {
-    return {control, maps,   mapping, localization, runs,
-            tokens,  sweeps, system,  camera,       simulated ? &sim : nullptr};
+    return {control, maps,   mapping, localization, runs, tokens,
+            sweeps,  system, camera,  audit,        simulated ? &sim : nullptr};
   }
 };
 

@@ -44,11 +44,13 @@ TEST(StreamRequest, ParsesUnsubscribeTeleopAndPing) {
                 parse_stream_request(R"({"op":"unsubscribe","topics":["map"]})", Role::kViewer))
                 .topics,
             std::vector<std::string>{"map"});
-  const auto teleop = std::get<TeleopRequest>(
+  const auto teleop = std::get<StreamTeleopRequest>(
       parse_stream_request(R"({"op":"teleop","v":0.5,"w":-0.25,"ttl_ms":120})", Role::kOperator));
-  EXPECT_DOUBLE_EQ(teleop.twist.linear_mps, 0.5);
-  EXPECT_DOUBLE_EQ(teleop.twist.angular_radps, -0.25);
-  EXPECT_EQ(teleop.ttl_ms, 120);
+  EXPECT_DOUBLE_EQ(teleop.command.twist.linear_mps, 0.5);
+  EXPECT_DOUBLE_EQ(teleop.command.twist.angular_radps, -0.25);
+  EXPECT_EQ(teleop.command.ttl_ms, 120);
+  EXPECT_FALSE(teleop.seq.has_value());
+  EXPECT_FALSE(teleop.sent_ms.has_value());
   EXPECT_EQ(
       std::get<PingRequest>(parse_stream_request(R"({"op":"ping","id":"a"})", Role::kViewer)).id,
       "a");
@@ -75,6 +77,41 @@ TEST(StreamRequest, ATeleopFromAViewerIsForbiddenBeforeItsFieldsAreRead) {
   EXPECT_EQ(error_code(R"({"op":"teleop"})", Role::kViewer), "forbidden");
   EXPECT_EQ(error_code(R"({"op":"teleop","v":0.1,"w":0})", Role::kViewer), "forbidden");
   EXPECT_EQ(error_code(R"({"op":"teleop","v":0.1,"w":0})", Role::kAdmin), "accepted");
+}
+
+TEST(StreamRequest, ATeleopLeaseCarriesItsSequenceAndSendTime) {
+  const auto teleop = std::get<StreamTeleopRequest>(parse_stream_request(
+      R"({"op":"teleop","v":0.2,"w":0,"ttl_ms":300,"seq":9007199254740991,"sent_ms":1733380000123.5})",
+      Role::kOperator));
+  EXPECT_EQ(teleop.seq, 9007199254740991ULL);
+  EXPECT_DOUBLE_EQ(*teleop.sent_ms, 1733380000123.5);
+  EXPECT_EQ(std::get<StreamTeleopRequest>(
+                parse_stream_request(R"({"op":"teleop","v":0,"w":0,"seq":0})", Role::kOperator))
+                .seq,
+            0U);
+  // Beyond what a JavaScript number holds exactly, negative, fractional, a string: refused.
+  for (const char* seq : {"9007199254740992", "-1", "1.5", "\"3\"", "null", "1e300"}) {
+    EXPECT_EQ(error_code(std::string(R"({"op":"teleop","v":0,"w":0,"seq":)") + seq + "}"),
+              "invalid_field")
+        << seq;
+  }
+  for (const char* sent : {"-1", "\"now\"", "1e300"}) {
+    EXPECT_NE(error_code(std::string(R"({"op":"teleop","v":0,"w":0,"sent_ms":)") + sent + "}"),
+              "accepted")
+        << sent;
+  }
+}
+
+TEST(StreamRequest, AnEstopNeedsTheOperatorRoleAndSaysWhichWay) {
+  EXPECT_TRUE(std::get<EstopRequest>(
+                  parse_stream_request(R"({"op":"estop","engaged":true})", Role::kOperator))
+                  .engaged);
+  EXPECT_FALSE(std::get<EstopRequest>(
+                   parse_stream_request(R"({"op":"estop","engaged":false})", Role::kAdmin))
+                   .engaged);
+  EXPECT_EQ(error_code(R"({"op":"estop","engaged":true})", Role::kViewer), "forbidden");
+  EXPECT_EQ(error_code(R"({"op":"estop"})"), "missing_field");
+  EXPECT_EQ(error_code(R"({"op":"estop","engaged":1})"), "invalid_field");
 }
 
 }  // namespace

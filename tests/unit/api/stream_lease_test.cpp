@@ -1,0 +1,290 @@
+// The stream's teleop lease (seq, sent_ms), its e-stop, the audit of a drive's start and stop
+// and why it stopped, and the round trip measured from the server's pings.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "stream_session_harness.h"
+
+namespace mobot::api::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+StreamOptions round_trip_every(int interval_ms) {
+  StreamOptions options;
+  options.round_trip_ping_interval_ms = interval_ms;
+  return options;
+}
+
+// The next frame whose payload holds `text`, skipping the others (pings, replies).
+std::optional<Frame> next_with(Client& client, const std::string& text) {
+  while (auto frame = client.read()) {
+    if (frame->payload.find(text) != std::string::npos) return frame;
+  }
+  return std::nullopt;
+}
+
+class StreamLeaseTest : public StreamSessionTest {
+ protected:
+  // Round-trip pings off unless a drive runs: the tests read the frames they expect.
+  StreamLeaseTest() : StreamSessionTest(round_trip_every(0)) {}
+
+  std::vector<CommandRecord> commands(const std::string& name) const {
+    std::vector<CommandRecord> found;
+    for (auto& record : robot_.audit.records()) {
+      if (record.command == name) found.push_back(record);
+    }
+    return found;
+  }
+
+  // Waits up to 5 s for the audit trail to hold `count` records of `name`.
+  bool wait_for_commands(const std::string& name, std::size_t count) const {
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (commands(name).size() < count) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(2ms);
+    }
+    return true;
+  }
+
+  std::size_t teleops_accepted() const {
+    const auto accepted = robot_.answers.accepted();
+    return static_cast<std::size_t>(std::count(accepted.begin(), accepted.end(), "teleop"));
+  }
+};
+
+TEST_F(StreamLeaseTest, ACommandWhoseSeqIsNotAboveTheLastIsDropped) {
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.2,"w":0,"seq":5,"sent_ms":1000.5})");
+  const auto first = next_with(*client, R"("op":"teleop")");
+  ASSERT_TRUE(first.has_value());
+  EXPECT_NE(first->payload.find(R"("seq":5)"), std::string::npos) << first->payload;
+  EXPECT_NE(first->payload.find(R"("sent_ms":1000.5)"), std::string::npos) << first->payload;
+  for (const char* stale : {R"({"op":"teleop","v":0.9,"w":0,"seq":5})",
+                            R"({"op":"teleop","v":0.9,"w":0,"seq":4})",
+                            R"({"op":"teleop","v":0.9,"w":0,"seq":0})"}) {
+    client->send_text(stale);
+    const auto refused = next_with(*client, R"("op":"error")");
+    ASSERT_TRUE(refused.has_value()) << stale;
+    EXPECT_NE(refused->payload.find(R"("code":"stale_seq")"), std::string::npos)
+        << refused->payload;
+  }
+  EXPECT_EQ(teleops_accepted(), 1U) << "a dropped command reached the robot";
+  client->send_text(R"({"op":"teleop","v":0.3,"w":0,"seq":6})");
+  const auto next = next_with(*client, R"("op":"teleop")");
+  ASSERT_TRUE(next.has_value());
+  EXPECT_NE(next->payload.find(R"("seq":6)"), std::string::npos) << next->payload;
+  EXPECT_EQ(teleops_accepted(), 2U);
+  // A command without seq is not ordered, and does not reset the order.
+  client->send_text(R"({"op":"teleop","v":0.3,"w":0})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  client->send_text(R"({"op":"teleop","v":0.3,"w":0,"seq":6})");
+  EXPECT_TRUE(next_with(*client, R"("code":"stale_seq")").has_value());
+  EXPECT_EQ(teleops_accepted(), 3U);
+}
+
+TEST_F(StreamLeaseTest, EachConnectionHasItsOwnSequence) {
+  auto first = open(Role::kOperator);
+  first->send_text(R"({"op":"teleop","v":0.2,"w":0,"seq":100})");
+  ASSERT_TRUE(next_with(*first, R"("op":"teleop")").has_value());
+  first.reset();
+  ASSERT_TRUE(wait_for_clients(0));
+  auto second = open(Role::kOperator);
+  second->send_text(R"({"op":"teleop","v":0.2,"w":0,"seq":1})");
+  const auto reply = next_with(*second, R"("op")");
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_NE(reply->payload.find(R"("seq":1)"), std::string::npos) << reply->payload;
+}
+
+TEST_F(StreamLeaseTest, TheEstopOpStopsTheRobotAndIsAudited) {
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"estop","engaged":true})");
+  const auto reply = next_with(*client, R"("op":"estop")");
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_NE(reply->payload.find(R"("engaged":true)"), std::string::npos) << reply->payload;
+  const auto accepted = robot_.answers.accepted();
+  EXPECT_EQ(std::count(accepted.begin(), accepted.end(), "set_estop"), 1);
+  const auto audited = commands("estop");
+  ASSERT_EQ(audited.size(), 1U) << "the reply waits for the audit record";
+  EXPECT_EQ(audited[0].via, "stream");
+  EXPECT_EQ(audited[0].caller.label, "test");
+  EXPECT_EQ(audited[0].caller.role, Role::kOperator);
+  EXPECT_EQ(audited[0].address, "127.0.0.1:1");
+  EXPECT_EQ(audited[0].request_json, R"({"engaged":true})");
+}
+
+TEST_F(StreamLeaseTest, AViewersEstopOrABadOneChangesNothing) {
+  auto viewer = open(Role::kViewer);
+  viewer->send_text(R"({"op":"estop","engaged":true})");
+  EXPECT_TRUE(next_with(*viewer, R"("code":"forbidden")").has_value());
+  auto operator_client = open(Role::kOperator);
+  operator_client->send_text(R"({"op":"estop"})");
+  EXPECT_TRUE(next_with(*operator_client, R"("code":"missing_field")").has_value());
+  operator_client->send_text(R"({"op":"estop","engaged":"yes"})");
+  EXPECT_TRUE(next_with(*operator_client, R"("code":"invalid_field")").has_value());
+  EXPECT_TRUE(robot_.answers.accepted().empty());
+  EXPECT_TRUE(robot_.audit.records().empty());
+}
+
+TEST_F(StreamLeaseTest, TheEstopIsServedEvenWhileAnotherOperatorHoldsTheLock) {
+  auto holder = open(Role::kOperator);
+  holder->send_text(R"({"op":"teleop","v":0.2,"w":0})");
+  ASSERT_TRUE(next_with(*holder, R"("op":"teleop")").has_value());
+  auto other = open(Role::kAdmin);
+  other->send_text(R"({"op":"teleop","v":0.2,"w":0})");
+  EXPECT_TRUE(next_with(*other, R"("code":"operator_busy")").has_value());
+  other->send_text(R"({"op":"estop","engaged":true})");
+  EXPECT_TRUE(next_with(*other, R"("op":"estop")").has_value());
+}
+
+TEST_F(StreamLeaseTest, ADriveIsAuditedAsItsStartAndItsStop) {
+  auto client = open(Role::kOperator);
+  for (int i = 0; i < 5; ++i) {
+    client->send_text(R"({"op":"teleop","v":0.2,"w":0.1,"ttl_ms":1000})");
+    ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  }
+  ASSERT_TRUE(wait_for_commands("teleop_start", 1));
+  client->send_text(R"({"op":"teleop","v":0,"w":0,"ttl_ms":1000})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  ASSERT_TRUE(wait_for_commands("teleop_stop", 1));
+  EXPECT_EQ(commands("teleop_start").size(), 1U) << "one start for five commands";
+  EXPECT_EQ(commands("teleop_stop")[0].reason, "released");
+  EXPECT_EQ(commands("teleop_stop")[0].via, "stream");
+  // A standing command with no drive running starts and stops nothing.
+  client->send_text(R"({"op":"teleop","v":0,"w":0})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(commands("teleop_start").size(), 1U);
+  EXPECT_EQ(commands("teleop_stop").size(), 1U);
+}
+
+TEST_F(StreamLeaseTest, ALeaseThatLapsesWithNothingHeardIsALinkStall) {
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.2,"w":0,"ttl_ms":100})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  // The client falls silent: it neither sends nor answers the pings at half the ttl.
+  ASSERT_TRUE(wait_for_commands("teleop_stop", 1));
+  EXPECT_EQ(commands("teleop_stop")[0].reason, "link_stalled");
+  // The server pinged it while the lease ran.
+  bool pinged = false;
+  while (auto frame = client->read()) {
+    if (frame->opcode == 0x9U && frame->payload.size() == 8) {
+      pinged = true;
+      break;
+    }
+  }
+  EXPECT_TRUE(pinged);
+}
+
+TEST_F(StreamLeaseTest, ALeaseThatLapsesWhileTheClientTalksIsALapse) {
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.2,"w":0,"ttl_ms":150})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  const auto until = std::chrono::steady_clock::now() + 400ms;
+  while (std::chrono::steady_clock::now() < until) {
+    client->send_text(R"({"op":"ping","id":1})");
+    std::this_thread::sleep_for(20ms);
+  }
+  ASSERT_TRUE(wait_for_commands("teleop_stop", 1));
+  EXPECT_EQ(commands("teleop_stop")[0].reason, "lease_lapsed");
+  // The next moving command is a new drive.
+  client->send_text(R"({"op":"teleop","v":0.2,"w":0,"ttl_ms":150})");
+  EXPECT_TRUE(wait_for_commands("teleop_start", 2));
+}
+
+TEST_F(StreamLeaseTest, ADriveWhoseStreamClosesStopsAtOnce) {
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.2,"w":0,"ttl_ms":1000})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  ASSERT_EQ(teleops_accepted(), 1U);
+  client.reset();
+  ASSERT_TRUE(wait_for_commands("teleop_stop", 1));
+  EXPECT_EQ(commands("teleop_stop")[0].reason, "stream_closed");
+  EXPECT_EQ(teleops_accepted(), 2U) << "a standing command stops the robot";
+  // The lock went with the stream.
+  EXPECT_FALSE(hub_.operator_lock().holder(OperatorLock::Clock::now()).has_value());
+}
+
+StreamOptions slow_message_rate() {
+  StreamOptions options = round_trip_every(0);
+  options.client_messages_per_s = 10.0;
+  options.client_message_burst = 5.0;
+  return options;
+}
+
+class StreamRateTest : public StreamSessionTest {
+ protected:
+  StreamRateTest() : StreamSessionTest(slow_message_rate()) {}
+};
+
+TEST_F(StreamRateTest, AFloodIsDroppedButAnEstopInItIsCarriedOut) {
+  auto client = open(Role::kOperator);
+  for (int i = 0; i < 50; ++i) client->send_text(R"({"op":"ping","id":"flood"})");
+  client->send_text(R"({"op":"estop","engaged":true})");
+  for (int i = 0; i < 50; ++i) client->send(0x9, "x", true);  // WebSocket pings count too
+  std::this_thread::sleep_for(150ms);
+  client->send_text(R"({"op":"ping","id":"last"})");
+  int pongs = 0;
+  int notices = 0;
+  int ws_pongs = 0;
+  bool estop = false;
+  while (auto frame = client->read()) {
+    if (frame->payload.find(R"("op":"pong")") != std::string::npos) ++pongs;
+    if (frame->payload.find(R"("code":"rate_limited")") != std::string::npos) ++notices;
+    if (frame->payload.find(R"("op":"estop")") != std::string::npos) estop = true;
+    if (frame->opcode == 0xAU) ++ws_pongs;
+    if (frame->payload.find(R"("id":"last")") != std::string::npos) break;
+  }
+  EXPECT_TRUE(estop) << "the e-stop was dropped with the flood";
+  EXPECT_LE(pongs, 8) << "about the burst of five, then the rate";
+  EXPECT_LE(ws_pongs, 3);
+  EXPECT_EQ(notices, 1) << "one notice a second at most";
+  EXPECT_GE(metric(hub_, "mobot_stream_messages_rate_limited_total"), 80U);
+  const auto accepted = robot_.answers.accepted();
+  EXPECT_EQ(std::count(accepted.begin(), accepted.end(), "set_estop"), 1);
+}
+
+class StreamRoundTripTest : public StreamSessionTest {
+ protected:
+  StreamRoundTripTest() : StreamSessionTest(round_trip_every(50)) {}
+};
+
+TEST_F(StreamRoundTripTest, ThePongOfATimedPingGivesTheClientsRoundTrip) {
+  auto client = open(Role::kViewer);
+  std::optional<Frame> ping;
+  while ((ping = client->read()) && ping->opcode != 0x9U) {
+  }
+  ASSERT_TRUE(ping.has_value());
+  ASSERT_EQ(ping->payload.size(), 8U);
+  std::this_thread::sleep_for(30ms);
+  client->send_pong(ping->payload);
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  std::optional<double> rtt_ms;
+  while (!rtt_ms && std::chrono::steady_clock::now() < deadline) {
+    for (const auto& view : hub_.clients().list()) rtt_ms = view.rtt_ms;
+    std::this_thread::sleep_for(2ms);
+  }
+  ASSERT_TRUE(rtt_ms.has_value());
+  EXPECT_GE(*rtt_ms, 30.0);
+  EXPECT_LT(*rtt_ms, 5000.0);
+}
+
+TEST_F(StreamRoundTripTest, PongsThatAreNotAnswersChangeNothing) {
+  auto client = open(Role::kViewer);
+  client->send_pong("");
+  client->send_pong("abc");
+  // Eight bytes from the future, and from long ago.
+  client->send_pong(std::string(8, '\xff'));
+  client->send_pong(std::string(8, '\0'));
+  client->send_text(R"({"op":"ping","id":2})");
+  ASSERT_TRUE(next_with(*client, R"("op":"pong")").has_value());
+  for (const auto& view : hub_.clients().list()) EXPECT_FALSE(view.rtt_ms.has_value());
+}
+
+}  // namespace
+}  // namespace mobot::api::test
