@@ -25,7 +25,7 @@ std::int64_t TokenStore::add(const std::string& hash, Role role, const std::stri
 }
 
 std::optional<TokenRecord> TokenStore::find(const std::string& hash) const {
-  return database_.read([&](const Connection& connection) -> std::optional<TokenRecord> {
+  return lookups_.read([&](const Connection& connection) -> std::optional<TokenRecord> {
     Statement row = connection.prepare(
         "SELECT id, role, label, created_unix_s, expires_at FROM tokens "
         "WHERE hash = ? AND revoked = 0");

@@ -25,11 +25,15 @@ struct TokenRecord {
 // expiry has passed is the caller's to judge (it has the clock); the store keeps the time.
 class TokenStore {
  public:
-  explicit TokenStore(Database& database) : database_(database) {}
+  explicit TokenStore(Database& database) : database_(database), lookups_(database) {}
+  // `lookups`: another connection to the same file, for find() alone. Every request checks its
+  // token there, and in WAL mode a reader on its own connection never waits for a commit (the
+  // recorder's fsync) that holds `database`.
+  TokenStore(Database& database, Database& lookups) : database_(database), lookups_(lookups) {}
 
   std::int64_t add(const std::string& hash, Role role, const std::string& label,
                    double created_unix_s, std::optional<std::int64_t> expires_unix_s = {});
-  // The live (not revoked) token with this hash, expired or not.
+  // The live (not revoked) token with this hash, expired or not, as last committed by anyone.
   std::optional<TokenRecord> find(const std::string& hash) const;
   std::vector<TokenRecord> list() const;
   // False when no live token has this id.
@@ -39,6 +43,7 @@ class TokenStore {
 
  private:
   Database& database_;
+  Database& lookups_;
 };
 
 }  // namespace mobot::db

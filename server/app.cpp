@@ -132,10 +132,11 @@ App::App(Config config)
     : config_(std::move(config)),
       tls_(tls_context_of(config_)),
       database_(open_database(config_)),
+      token_lookups_(open_database(config_)),
       maps_(database_),
       zones_(database_),
       runs_(database_),
-      tokens_(database_),
+      tokens_(database_, token_lookups_),
       sweep_store_(database_),
       started_(std::chrono::steady_clock::now()),
       hub_(stream_options(config_)) {

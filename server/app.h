@@ -61,6 +61,8 @@ class App final : public api::SystemPort {
   // Loaded first: a certificate or key that does not load stops mobotd before anything starts.
   std::optional<boost::asio::ssl::context> tls_;
   db::Database database_;
+  // The store again, for the token checks of every request alone (db/token_store.h).
+  db::Database token_lookups_;
   db::MapStore maps_;
   db::ZoneStore zones_;
   db::RunStore runs_;

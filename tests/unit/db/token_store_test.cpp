@@ -63,6 +63,31 @@ TEST_F(TokenStoreTest, KeepsTheExpiryAndCountsOnlyAdminsThatHaveNotExpired) {
   EXPECT_EQ(listed[1].expires_unix_s, 1000);
 }
 
+// mobotd checks tokens on a connection of their own: a check goes through while another unit of
+// work holds the main connection (the recorder's commit), and sees what was committed last.
+TEST(TokenStoreLookups, AreNotHeldUpByAWriteOnTheMainConnection) {
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("mobot_token_lookups_" + std::to_string(::getpid()) + ".sqlite");
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(file.string() + suffix);
+  {
+    Database main = Database::open(file);
+    Database lookups = Database::open(file);
+    TokenStore tokens(main, lookups);
+    const auto id = tokens.add("h1", Role::kViewer, "nell", 1.0);
+    ASSERT_TRUE(tokens.find("h1").has_value());
+    main.write([&](const Connection& tx) {
+      tx.exec("INSERT INTO runs (name, started_unix_s) VALUES ('busy', 1)");
+      // On the main connection this would wait for the write that is holding it: forever.
+      const auto found = tokens.find("h1");
+      ASSERT_TRUE(found.has_value());
+      EXPECT_EQ(found->label, "nell");
+    });
+    EXPECT_TRUE(tokens.revoke(id));
+    EXPECT_FALSE(tokens.find("h1").has_value()) << "the revocation is seen at once";
+  }
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(file.string() + suffix);
+}
+
 // A store written by a mobotd from before token expiry (schema 3) keeps its tokens, which never
 // expire.
 TEST(TokenStoreMigration, TokensOfAnOlderSchemaKeepWorkingWithoutAnExpiry) {
