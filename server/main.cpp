@@ -38,7 +38,7 @@ struct TokenFlags {
   std::string label;
   std::int64_t lifetime_s = 0;
   std::int64_t id = 0;
-  mobot::server::TokenCommand command;
+  mobot::server::TokenCommand::Action action = mobot::server::TokenCommand::Action::kList;
 };
 
 mobot::server::Config make_config(const Flags& flags) {
@@ -88,28 +88,29 @@ void add_token_subcommand(CLI::App& cli, TokenFlags& flags) {
       ->check(CLI::IsMember({"viewer", "operator", "admin"}));
   create->add_option("--expires-in-s", flags.lifetime_s, "lifetime in seconds (60..31536000)")
       ->check(CLI::Range(mobot::api::kMinTokenLifetime_s, mobot::api::kMaxTokenLifetime_s));
-  create->callback([&flags] { flags.command.action = TokenCommand::Action::kCreate; });
+  create->callback([&flags] { flags.action = TokenCommand::Action::kCreate; });
 
   CLI::App* list = token->add_subcommand(
       "list", "every token: id, role, label, created, expires, revoked (never the token)");
   list->fallthrough();
-  list->callback([&flags] { flags.command.action = TokenCommand::Action::kList; });
+  list->callback([&flags] { flags.action = TokenCommand::Action::kList; });
 
   CLI::App* revoke = token->add_subcommand("revoke", "revoke a token: refused from now on");
   revoke->fallthrough();
   revoke->add_option("id", flags.id, "the token's id (mobotd token list)")
       ->required()
       ->check(CLI::PositiveNumber);
-  revoke->callback([&flags] { flags.command.action = TokenCommand::Action::kRevoke; });
+  revoke->callback([&flags] { flags.action = TokenCommand::Action::kRevoke; });
 }
 
-int run_token(TokenFlags& flags) {
+int run_token(const TokenFlags& flags) {
   try {
     Flags server_flags;
     server_flags.config_file = flags.config_file;
     server_flags.data_dir = flags.data_dir;
     const mobot::server::Config config = make_config(server_flags);
-    mobot::server::TokenCommand command = flags.command;
+    mobot::server::TokenCommand command;
+    command.action = flags.action;
     if (const auto role = mobot::api::role_from_name(flags.role)) command.role = *role;
     command.label = flags.label;
     if (flags.lifetime_s > 0) command.lifetime_s = flags.lifetime_s;
@@ -152,7 +153,12 @@ int main(int argc, char** argv) {
   TokenFlags token_flags;
   add_token_subcommand(cli, token_flags);
   CLI11_PARSE(cli, argc, argv);
-  if (cli.got_subcommand("token")) return run_token(token_flags);
+  if (cli.got_subcommand("token")) {
+    // `mobotd --config FILE token list` finds the store as `mobotd token list --config FILE` does.
+    if (token_flags.config_file.empty()) token_flags.config_file = flags.config_file;
+    if (token_flags.data_dir.empty()) token_flags.data_dir = flags.data_dir;
+    return run_token(token_flags);
+  }
 
   // stdout carries only the ready line and the dashboard URL; logs go to stderr.
   auto logger = spdlog::stderr_color_mt("mobotd");
