@@ -6,10 +6,12 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl/context.hpp>
 
 #include "api/ports/ports.h"
 #include "api/rest_api.h"
 #include "api/stream_hub.h"
+#include "api/tls_tunnel.h"
 
 namespace mobot::api {
 
@@ -18,22 +20,34 @@ struct HttpOptions {
   std::uint16_t port = 8080;
 };
 
-// Accepts TCP connections and gives each its own HttpSession (Beast's advanced_server shape).
+// Accepts TCP connections and gives each its own HttpSession (Beast's advanced_server shape). With
+// a TLS context, every connection goes through a TlsTunnel first: the port then speaks https and
+// wss only.
 class HttpServer {
  public:
-  HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, const Ports& ports);
+  // `tls`: null for plain http; otherwise it must outlive the server.
+  HttpServer(boost::asio::io_context& io, RestApi& rest, StreamHub& hub, const Ports& ports,
+             boost::asio::ssl::context* tls = nullptr,
+             TlsTunnelTimeouts tls_timeouts = TlsTunnelTimeouts{});
 
   // Binds and starts accepting; returns the bound endpoint (port 0 picks a free one).
   boost::asio::ip::tcp::endpoint listen(const HttpOptions& options);
   void stop();
+  bool secure() const { return tls_ != nullptr; }
+  // The TLS front's counters in the Prometheus text format (nothing for plain http).
+  std::string metrics_text() const;
 
  private:
   void accept_next();
+  void serve_tls(boost::asio::ip::tcp::socket socket);
 
   boost::asio::io_context& io_;
   RestApi& rest_;
   StreamHub& hub_;
   Ports ports_;
+  boost::asio::ssl::context* tls_;
+  TlsTunnelTimeouts tls_timeouts_;
+  TlsCounters tls_counters_;
   boost::asio::ip::tcp::acceptor acceptor_;
 };
 

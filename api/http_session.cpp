@@ -1,5 +1,7 @@
 #include "api/http_session.h"
 
+#include <spdlog/spdlog.h>
+
 #include <boost/asio/dispatch.hpp>
 #include <boost/beast/websocket/rfc6455.hpp>
 #include <chrono>
@@ -14,14 +16,27 @@ namespace {
 constexpr auto kIdleTimeout = std::chrono::seconds(60);
 constexpr std::size_t kHeaderLimit = kMaxRequestHeaderBytes;
 
+// RFC 6797: browsers that saw it use https for this host for a year, never plain http.
+constexpr std::string_view kHsts = "max-age=31536000";
+
+ConnectionOrigin tcp_origin(const boost::asio::ip::tcp::socket& socket) {
+  boost::system::error_code error;
+  const auto peer = socket.remote_endpoint(error);
+  if (error) return {};
+  return {peer.address().to_string() + ":" + std::to_string(peer.port()), false};
+}
+
 }  // namespace
 
 HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
                          const Ports& ports)
-    : stream_(std::move(socket)), rest_(rest), hub_(hub), ports_(ports) {
-  boost::system::error_code error;
-  const auto peer = stream_.socket().remote_endpoint(error);
-  if (!error) client_.address = peer.address().to_string() + ":" + std::to_string(peer.port());
+    : HttpSession(std::move(socket), rest, hub, ports, ConnectionOrigin{}) {}
+
+HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
+                         const Ports& ports, ConnectionOrigin origin)
+    : stream_(std::move(socket)), rest_(rest), hub_(hub), ports_(ports), secure_(origin.secure) {
+  if (origin.peer_address.empty() && !origin.secure) origin = tcp_origin(stream_.socket());
+  client_.address = std::move(origin.peer_address);
   registration_ = hub_.clients().open(client_.address, unix_now_s());
   client_.id = registration_->id();
 }
@@ -91,6 +106,10 @@ void HttpSession::on_body(boost::beast::error_code error) {
     return;
   }
   Request request = parser_->release();
+  if (spdlog::should_log(spdlog::level::debug)) {
+    spdlog::debug("{} {} {}", client_.address, std::string_view(request.method_string()),
+                  redacted_target(request.target()));
+  }
   if (boost::beast::websocket::is_upgrade(request)) {
     upgrade_to_stream(request);
     return;
@@ -118,6 +137,7 @@ void HttpSession::answer(const Request& request) {
 void HttpSession::send(Response response, bool close_after) {
   auto shared = std::make_shared<Response>(std::move(response));
   if (close_after) shared->keep_alive(false);
+  if (secure_) shared->set(http::field::strict_transport_security, kHsts);
   stream_.expires_after(kIdleTimeout);
   http::async_write(stream_, *shared,
                     [self = shared_from_this(), shared, close_after](boost::beast::error_code error,
@@ -152,7 +172,9 @@ void HttpSession::upgrade_to_stream(const Request& request) {
   auto handshake = std::make_shared<std::string>(
       "HTTP/1.1 101 Switching Protocols\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
       "Sec-WebSocket-Accept: " +
-      websocket_accept_key(key) + "\r\nServer: mobotd\r\n\r\n");
+      websocket_accept_key(key) + "\r\nServer: mobotd\r\n" +
+      (secure_ ? "Strict-Transport-Security: " + std::string(kHsts) + "\r\n" : std::string{}) +
+      "\r\n");
   stream_.expires_never();
   boost::asio::async_write(
       stream_, boost::asio::buffer(*handshake),

@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -13,6 +14,13 @@
 
 namespace mobot::api {
 
+// How a connection came: straight over TCP, or through a TlsTunnel, whose plain end the session
+// then reads and writes (and whose client's address it takes, the socket's being the tunnel's).
+struct ConnectionOrigin {
+  std::string peer_address;  // "ip:port" of the client
+  bool secure = false;       // https/wss: responses carry Strict-Transport-Security
+};
+
 // One HTTP/1.1 connection with keep-alive. Reads the header first so the body limit can depend on
 // the endpoint (8 MiB for map import, 64 KiB otherwise), answers REST requests, and hands the
 // socket to a StreamSession on a WebSocket upgrade of /api/v1/stream. A response may come from
@@ -20,8 +28,11 @@ namespace mobot::api {
 // request is read only once it is out.
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
+  // A plain TCP connection: the client is the socket's peer.
   HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
               const Ports& ports);
+  HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
+              const Ports& ports, ConnectionOrigin origin);
   void start();
 
  private:
@@ -41,6 +52,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   Ports ports_;
   ClientRegistry::Registration registration_;
   ClientContext client_;
+  bool secure_ = false;
 };
 
 }  // namespace mobot::api

@@ -95,6 +95,28 @@ std::string query_parameter(std::string_view target, std::string_view name) {
   return {};
 }
 
+std::string redacted_target(std::string_view target) {
+  const auto query_start = target.find('?');
+  if (query_start == std::string_view::npos) return std::string(target);
+  std::string out(target.substr(0, query_start + 1));
+  std::string_view query = target.substr(query_start + 1);
+  while (true) {
+    const auto amp = query.find('&');
+    const std::string_view pair = query.substr(0, amp);
+    const auto eq = pair.find('=');
+    // The name as a client may have encoded it ("t%6Fken") counts too.
+    if (percent_decode(pair.substr(0, eq)) == "token") {
+      out.append(pair.substr(0, eq)).append("=REDACTED");
+    } else {
+      out.append(pair);
+    }
+    if (amp == std::string_view::npos) break;
+    out.push_back('&');
+    query.remove_prefix(amp + 1);
+  }
+  return out;
+}
+
 std::string bearer_token(const Request& request) {
   const auto header = request[http::field::authorization];
   constexpr std::string_view kPrefix = "bearer ";

@@ -37,5 +37,8 @@ std::string query_parameter(std::string_view target, std::string_view name);
 // The token of an "Authorization: Bearer TOKEN" header (the scheme in any case), or "".
 std::string bearer_token(const Request& request);
 std::string percent_decode(std::string_view text);
+// The target as it may be logged: the value of every `token` query parameter replaced by
+// "REDACTED" (the stream's URL carries its token).
+std::string redacted_target(std::string_view target);
 
 }  // namespace mobot::api

@@ -7,10 +7,12 @@ namespace mobot::api {
 namespace {
 
 Role parse_role(const std::string& name) {
-  if (name == "viewer") return Role::kViewer;
-  if (name == "operator") return Role::kOperator;
-  if (name == "admin") return Role::kAdmin;
+  if (const auto role = role_from_name(name)) return *role;
   throw ApiError(400, "invalid_field", "'role' must be viewer, operator or admin");
+}
+
+nlohmann::json expiry_json(const std::optional<std::int64_t>& expires_unix_s) {
+  return expires_unix_s ? nlohmann::json(*expires_unix_s) : nlohmann::json(nullptr);
 }
 
 }  // namespace
@@ -25,6 +27,7 @@ Response RestApi::route_tokens(const Request& request, const Segments& path) {
                         {"role", role_name(token.role)},
                         {"label", token.label},
                         {"created", token.created_unix_s},
+                        {"expires_at", expiry_json(token.expires_unix_s)},
                         {"revoked", token.revoked}});
     }
     return json_response(request, http::status::ok, tokens);
@@ -33,10 +36,19 @@ Response RestApi::route_tokens(const Request& request, const Segments& path) {
     const nlohmann::json body = parse_json_body(request.body());
     const Role role = parse_role(require_string(body, "role", 16));
     std::string label;
-    if (body.contains("label")) label = require_string(body, "label", 128);
-    const auto [id, token] = ports_.tokens.create_token(role, label);
+    if (body.contains("label")) label = require_string(body, "label", kMaxTokenLabelChars);
+    std::optional<std::int64_t> lifetime_s;
+    if (const auto seconds = optional_integer(body, "expires_in_s",
+                                              static_cast<int>(kMinTokenLifetime_s),
+                                              static_cast<int>(kMaxTokenLifetime_s))) {
+      lifetime_s = *seconds;
+    }
+    const CreatedToken created = ports_.tokens.create_token(role, label, lifetime_s);
     return json_response(request, http::status::created,
-                         {{"id", id}, {"role", role_name(role)}, {"token", token}});
+                         {{"id", created.id},
+                          {"role", role_name(role)},
+                          {"token", created.token},
+                          {"expires_at", expiry_json(created.expires_unix_s)}});
   }
   if (path.size() == 4 && method == http::verb::delete_) {
     const auto id = parse_id(path[3]);

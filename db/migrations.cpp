@@ -95,7 +95,14 @@ CREATE TABLE map_zones (
 CREATE INDEX map_zones_by_map ON map_zones (map_id);
 )sql";
 
-constexpr std::array<std::string_view, 3> kMigrations{kInitialSchema, kSweeps, kZones};
+// Tokens that lapse: the unix time (whole seconds) from which a token no longer authenticates;
+// NULL for a token that lasts until it is revoked.
+constexpr std::string_view kTokenExpiry = R"sql(
+ALTER TABLE tokens ADD COLUMN expires_at INTEGER;
+)sql";
+
+constexpr std::array<std::string_view, 4> kMigrations{kInitialSchema, kSweeps, kZones,
+                                                      kTokenExpiry};
 
 }  // namespace
 

@@ -10,8 +10,10 @@
 #include <iostream>
 
 #include "api/prometheus_text.h"
+#include "api/tls_context.h"
 #include "drivers/backend_factory.h"
 #include "server/bus_bridges.h"
+#include "server/data_dir.h"
 
 namespace mobot::server {
 namespace {
@@ -46,7 +48,7 @@ api::StreamOptions stream_options(const Config& config) {
 
 db::Database open_database(const Config& config) {
   std::filesystem::create_directories(config.server.data_dir);
-  return db::Database::open(config.server.data_dir / "mobot.sqlite");
+  return db::Database::open(store_path(config.server.data_dir));
 }
 
 // The real devices' counters, one sample per device of each metric.
@@ -97,6 +99,15 @@ std::string device_metrics_text(const std::vector<drivers::DeviceCounters>& devi
   return out;
 }
 
+std::optional<boost::asio::ssl::context> tls_context_of(const Config& config) {
+  if (!config.server.tls()) return std::nullopt;
+  try {
+    return api::make_tls_server_context({config.server.tls_cert, config.server.tls_key});
+  } catch (const api::TlsSetupError& error) {
+    throw ConfigError(std::string("server.tls: ") + error.what());
+  }
+}
+
 drivers::BackendOptions backend_options(const Config& config) {
   drivers::BackendOptions options;
   options.backend = config.backend;
@@ -119,11 +130,13 @@ drivers::BackendOptions backend_options(const Config& config) {
 
 App::App(Config config)
     : config_(std::move(config)),
+      tls_(tls_context_of(config_)),
       database_(open_database(config_)),
+      token_lookups_(open_database(config_)),
       maps_(database_),
       zones_(database_),
       runs_(database_),
-      tokens_(database_),
+      tokens_(database_, token_lookups_),
       sweep_store_(database_),
       started_(std::chrono::steady_clock::now()),
       hub_(stream_options(config_)) {
@@ -176,7 +189,8 @@ App::App(Config config)
   runtime.run_posted();
   rest_ = std::make_unique<api::RestApi>(ports(), hub_,
                                          api::RestOptions{web_dir_of(config_), MOBOT_VERSION});
-  http_ = std::make_unique<api::HttpServer>(io_, *rest_, hub_, ports());
+  http_ = std::make_unique<api::HttpServer>(io_, *rest_, hub_, ports(),
+                                            tls_ ? &*tls_ : nullptr);
 }
 
 App::~App() { shut_down(); }
@@ -189,7 +203,7 @@ api::Ports App::ports() {
 void App::ensure_admin_token() {
   const auto token = token_admin_->create_first_admin();
   if (!token) return;
-  const std::filesystem::path file = config_.server.data_dir / "admin.token";
+  const std::filesystem::path file = admin_token_path(config_.server.data_dir);
   {
     std::ofstream out(file, std::ios::trunc);
     out << *token << "\n";
@@ -212,10 +226,10 @@ int App::run() {
   const unsigned threads = std::max(2U, std::thread::hardware_concurrency());
   for (unsigned i = 0; i < threads; ++i) io_threads_.emplace_back([this] { io_.run(); });
 
-  const std::string url =
-      "http://" + endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+  const std::string url = std::string(http_->secure() ? "https://" : "http://") +
+                          endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
   std::cout << "mobotd listening on " << url << std::endl;
-  std::ifstream token_file(config_.server.data_dir / "admin.token");
+  std::ifstream token_file(admin_token_path(config_.server.data_dir));
   std::string admin_token;
   if (token_file >> admin_token) {
     std::cout << "dashboard: " << url << "/?token=" << admin_token << std::endl;
@@ -282,7 +296,7 @@ std::string App::metrics_text() const {
     first = false;
   }
   out += device_metrics_text(robot_->backend().device_counters());
-  out += robot_->runtime().metrics_text() + recorder_->metrics_text();
+  out += robot_->runtime().metrics_text() + recorder_->metrics_text() + http_->metrics_text();
   api::append_metric(out, "mobot_uptime_seconds", "gauge", "Seconds since start.", uptime_s());
   return out;
 }

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ssl/context.hpp>
+#include <optional>
 
 #include "api/http_server.h"
 #include "api/ports/ports.h"
@@ -57,7 +59,11 @@ class App final : public api::SystemPort {
   void shut_down();
 
   Config config_;
+  // Loaded first: a certificate or key that does not load stops mobotd before anything starts.
+  std::optional<boost::asio::ssl::context> tls_;
   db::Database database_;
+  // The store again, for the token checks of every request alone (db/token_store.h).
+  db::Database token_lookups_;
   db::MapStore maps_;
   db::ZoneStore zones_;
   db::RunStore runs_;

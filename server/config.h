@@ -19,6 +19,11 @@ struct ServerSection {
   std::uint16_t port = 8080;
   std::filesystem::path data_dir = "var";
   std::filesystem::path web_dir;  // empty: the dashboard built in the source tree
+  // server.tls {cert, key} or --tls-cert/--tls-key, PEM files: both given, the port speaks only
+  // https and wss; neither, only plain http and ws.
+  std::filesystem::path tls_cert;  // the certificate chain, the server's own first
+  std::filesystem::path tls_key;
+  bool tls() const { return !tls_cert.empty(); }
 };
 
 struct RobotSection {

@@ -132,6 +132,28 @@ void read_sim_odometry(const Reader& reader, SimSection& sim) {
   sim.odometry.step_noise_fraction = number("step_noise_fraction", 0.0, 0.3);
 }
 
+// server.tls: {cert: PATH, key: PATH}, both file paths; that both are there is a rule across keys
+// (check_config_rules), since the flags may give either.
+void read_server_tls(const Reader& reader, ServerSection& server) {
+  const YAML::Node node = reader.lookup("server", "tls");
+  if (!node || node.IsNull()) return;
+  if (!node.IsMap()) throw ConfigError("server.tls: expected a mapping {cert: PATH, key: PATH}");
+  for (const auto& field : node) {
+    const auto name = key_name(field.first, "server.tls");
+    if (name != "cert" && name != "key") throw ConfigError("server.tls." + name + ": unknown key");
+  }
+  const auto path = [&node](const std::string& key) -> std::filesystem::path {
+    const YAML::Node value = node[key];
+    if (!value) return {};
+    if (!value.IsScalar() || value.Scalar().empty()) {
+      throw ConfigError("server.tls." + key + ": expected a file path");
+    }
+    return value.Scalar();
+  };
+  server.tls_cert = path("cert");
+  server.tls_key = path("key");
+}
+
 // The sensors whose silence or fault stops the robot: a list of known sensor names.
 void read_required_sensors(const Reader& reader, RobotSection& robot) {
   const YAML::Node node = reader.lookup("robot", "required_sensors");
@@ -156,7 +178,7 @@ void read_required_sensors(const Reader& reader, RobotSection& robot) {
 // A misspelt key would otherwise be ignored silently and the default used instead.
 void reject_unknown_keys(const YAML::Node& root) {
   static const std::map<std::string, std::set<std::string>> kKnown{
-      {"server", {"bind", "port", "data_dir", "web_dir"}},
+      {"server", {"bind", "port", "data_dir", "web_dir", "tls"}},
       {"robot",
        {"name", "profile", "kinematics", "control_rate_hz", "realtime_priority", "laser_rate_hz",
         "sonar_rate_hz", "compass_rate_hz", "sensor_timeout_s", "teleop_ttl_ms",
@@ -213,6 +235,7 @@ Config read_config(std::string_view yaml_text, const std::string& source) {
   path.clear();
   reader.read("server", "web_dir", path);
   if (!path.empty()) config.server.web_dir = path;
+  read_server_tls(reader, config.server);
 
   RobotSection& robot = config.robot;
   reader.read("robot", "name", robot.name);
@@ -287,6 +310,13 @@ Config parse_config(std::string_view yaml_text, const std::string& source) {
 }
 
 void check_config_rules(const Config& config) {
+  if (config.server.tls_cert.empty() != config.server.tls_key.empty()) {
+    throw ConfigError(config.server.tls_cert.empty()
+                          ? "server.tls.cert: missing: TLS needs the certificate chain "
+                            "(server.tls.cert or --tls-cert) besides the key"
+                          : "server.tls.key: missing: TLS needs the private key "
+                            "(server.tls.key or --tls-key) besides the certificate");
+  }
   if (config.backend != "sim" && config.backend != "hardware") {
     throw ConfigError("backend: '" + config.backend + "' is not one of sim, hardware");
   }

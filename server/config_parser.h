@@ -13,7 +13,7 @@ namespace mobot::server {
 // what it accepts (`source` names the file). No file is read here: the text may come from
 // anywhere, a fuzzer included.
 Config parse_config(std::string_view yaml_text, const std::string& source);
-// The rules across keys (the backend, the laser rate within the control rate, the navigation
+// The rules across keys (TLS's certificate and key both or neither, the backend, the laser rate within the control rate, the navigation
 // speed within the limits, the mux's required sources); throws ConfigError.
 void check_config_rules(const Config& config);
 

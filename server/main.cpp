@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <iostream>
 
+#include "api/role_names.h"
 #include "drivers/backend_factory.h"
 #include "server/app.h"
 #include "server/config.h"
+#include "server/token_command.h"
 
 namespace {
 
@@ -24,6 +26,19 @@ struct Flags {
   std::string token;
   std::string run_name;
   std::string log_level = "info";
+  std::string tls_cert;
+  std::string tls_key;
+};
+
+// `mobotd token ...`: what to do and where the store is (found as the server finds it).
+struct TokenFlags {
+  std::string config_file;
+  std::string data_dir;
+  std::string role;
+  std::string label;
+  std::int64_t lifetime_s = 0;
+  std::int64_t id = 0;
+  mobot::server::TokenCommand::Action action = mobot::server::TokenCommand::Action::kList;
 };
 
 mobot::server::Config make_config(const Flags& flags) {
@@ -40,8 +55,74 @@ mobot::server::Config make_config(const Flags& flags) {
   if (flags.seed >= 0) config.sim.seed = static_cast<std::uint64_t>(flags.seed);
   if (!flags.token.empty()) config.extra_admin_token = flags.token;
   if (!flags.run_name.empty()) config.run_name = flags.run_name;
+  if (!flags.tls_cert.empty()) config.server.tls_cert = flags.tls_cert;
+  if (!flags.tls_key.empty()) config.server.tls_key = flags.tls_key;
   mobot::server::validate_config(config);
   return config;
+}
+
+void add_token_subcommand(CLI::App& cli, TokenFlags& flags) {
+  using mobot::server::TokenCommand;
+  CLI::App* token = cli.add_subcommand(
+      "token", "make, list and revoke API tokens in the store (also while mobotd runs)");
+  token->require_subcommand(1);
+  token->add_option("--config", flags.config_file,
+                    "YAML config file whose server.data_dir holds the store")
+      ->check(CLI::ExistingFile);
+  token->add_option("--data-dir", flags.data_dir, "where the SQLite store lives (default ./var)");
+
+  CLI::App* create = token->add_subcommand(
+      "create", "make a token and print it, alone, on stdout (it is not shown again)");
+  create->fallthrough();
+  create->add_option("--label", flags.label, "who or what holds it (1..128 characters)")
+      ->required()
+      ->check(CLI::Validator(
+          [](const std::string& label) {
+            return label.empty() || label.size() > mobot::api::kMaxTokenLabelChars
+                       ? std::string("a label has 1 to 128 characters")
+                       : std::string{};
+          },
+          "LABEL"));
+  create->add_option("--role", flags.role, "viewer, operator or admin")
+      ->required()
+      ->check(CLI::IsMember({"viewer", "operator", "admin"}));
+  create->add_option("--expires-in-s", flags.lifetime_s, "lifetime in seconds (60..31536000)")
+      ->check(CLI::Range(mobot::api::kMinTokenLifetime_s, mobot::api::kMaxTokenLifetime_s));
+  create->callback([&flags] { flags.action = TokenCommand::Action::kCreate; });
+
+  CLI::App* list = token->add_subcommand(
+      "list", "every token: id, role, label, created, expires, revoked (never the token)");
+  list->fallthrough();
+  list->callback([&flags] { flags.action = TokenCommand::Action::kList; });
+
+  CLI::App* revoke = token->add_subcommand("revoke", "revoke a token: refused from now on");
+  revoke->fallthrough();
+  revoke->add_option("id", flags.id, "the token's id (mobotd token list)")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  revoke->callback([&flags] { flags.action = TokenCommand::Action::kRevoke; });
+}
+
+int run_token(const TokenFlags& flags) {
+  try {
+    Flags server_flags;
+    server_flags.config_file = flags.config_file;
+    server_flags.data_dir = flags.data_dir;
+    const mobot::server::Config config = make_config(server_flags);
+    mobot::server::TokenCommand command;
+    command.action = flags.action;
+    if (const auto role = mobot::api::role_from_name(flags.role)) command.role = *role;
+    command.label = flags.label;
+    if (flags.lifetime_s > 0) command.lifetime_s = flags.lifetime_s;
+    command.id = flags.id;
+    return mobot::server::run_token_command(command, config.server.data_dir, std::cout, std::cerr);
+  } catch (const mobot::server::ConfigError& error) {
+    std::cerr << "mobotd token: config: " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "mobotd token: " << error.what() << "\n";
+    return 1;
+  }
 }
 
 }  // namespace
@@ -66,7 +147,18 @@ int main(int argc, char** argv) {
   cli.add_option("--run-name", flags.run_name, "name of the run recorded for this process");
   cli.add_option("--log-level", flags.log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+  cli.add_option("--tls-cert", flags.tls_cert,
+                 "PEM certificate chain: serve https and wss only (with --tls-key)");
+  cli.add_option("--tls-key", flags.tls_key, "PEM private key of --tls-cert");
+  TokenFlags token_flags;
+  add_token_subcommand(cli, token_flags);
   CLI11_PARSE(cli, argc, argv);
+  if (cli.got_subcommand("token")) {
+    // `mobotd --config FILE token list` finds the store as `mobotd token list --config FILE` does.
+    if (token_flags.config_file.empty()) token_flags.config_file = flags.config_file;
+    if (token_flags.data_dir.empty()) token_flags.data_dir = flags.data_dir;
+    return run_token(token_flags);
+  }
 
   // stdout carries only the ready line and the dashboard URL; logs go to stderr.
   auto logger = spdlog::stderr_color_mt("mobotd");

@@ -52,6 +52,7 @@ TEST_F(HealthAuthTest, HealthNeedsNoToken) {
   const HttpReply reply = anonymous().get("/api/v1/health");
   ASSERT_EQ(reply.status, 200) << reply.body;
   EXPECT_EQ(reply.header("content-type"), "application/json");
+  EXPECT_EQ(reply.header("strict-transport-security"), "") << "HSTS only over TLS (tls_test.cpp)";
   const json body = reply.json();
   EXPECT_EQ(body.at("status"), "ok");
   EXPECT_EQ(body.at("backend"), "sim");

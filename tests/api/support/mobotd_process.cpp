@@ -79,13 +79,24 @@ void MobotdProcess::start() {
                                 "--token",
                                 options_.token,
                                 "--log-level",
-                                "warn"};
+                                options_.log_level};
+  if (!options_.tls_cert.empty()) {
+    args.insert(args.end(), {"--tls-cert", options_.tls_cert.string()});
+  }
+  if (!options_.tls_key.empty()) args.insert(args.end(), {"--tls-key", options_.tls_key.string()});
   args.insert(args.end(), options_.extra_args.begin(), options_.extra_args.end());
   int pipe_fds[2];
   if (::pipe(pipe_fds) != 0) throw std::runtime_error("pipe failed");
   const auto started = std::chrono::steady_clock::now();
   pid_ = ::fork();
   if (pid_ == 0) {
+    if (!options_.stderr_file.empty()) {
+      const int log_fd = ::open(options_.stderr_file.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
+      if (log_fd >= 0) {
+        ::dup2(log_fd, STDERR_FILENO);
+        ::close(log_fd);
+      }
+    }
     ::dup2(pipe_fds[1], STDOUT_FILENO);
     ::close(pipe_fds[0]);
     ::close(pipe_fds[1]);
@@ -99,7 +110,8 @@ void MobotdProcess::start() {
   stdout_fd_ = pipe_fds[0];
 
   std::string output;
-  const std::string marker = "mobotd listening on http://";
+  // "mobotd listening on http://ADDR:PORT", or https:// when TLS is on.
+  const std::string marker = "mobotd listening on ";
   const auto deadline = started + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
     pollfd poll_fd{stdout_fd_, POLLIN, 0};
@@ -112,6 +124,7 @@ void MobotdProcess::start() {
     const auto end = at == std::string::npos ? at : output.find('\n', at);
     if (end != std::string::npos) {
       const std::string address = output.substr(at + marker.size(), end - at - marker.size());
+      secure_ = address.rfind("https://", 0) == 0;
       port_ = static_cast<std::uint16_t>(std::stoi(address.substr(address.rfind(':') + 1)));
       startup_time_ = std::chrono::duration_cast<std::chrono::milliseconds>(
           std::chrono::steady_clock::now() - started);

@@ -20,6 +20,12 @@ class MobotdProcess {
     double time_scale = 10.0;
     std::filesystem::path data_dir;  // empty: a fresh temporary directory, removed at the end
     std::string token = "test-admin-token";
+    // Both set: mobotd serves https and wss only (--tls-cert, --tls-key).
+    std::filesystem::path tls_cert;
+    std::filesystem::path tls_key;
+    std::string log_level = "warn";
+    // Where mobotd's stderr goes (its log); empty: the test's own stderr.
+    std::filesystem::path stderr_file;
   };
 
   // A fresh temporary directory for a data dir that outlives one process (restart tests).
@@ -43,7 +49,11 @@ class MobotdProcess {
   void kill_hard();
   // True while the child runs (it has not exited or crashed).
   bool alive();
-  std::string base_url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  std::string base_url() const {
+    return std::string(secure_ ? "https" : "http") + "://127.0.0.1:" + std::to_string(port_);
+  }
+  // The ready line said https.
+  bool secure() const { return secure_; }
 
  private:
   void start();
@@ -54,6 +64,7 @@ class MobotdProcess {
   pid_t pid_ = -1;
   int stdout_fd_ = -1;
   std::uint16_t port_ = 0;
+  bool secure_ = false;
   std::chrono::milliseconds startup_time_{0};
 };
 

@@ -1,16 +1,23 @@
 #include "support/test_client.h"
 
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <openssl/err.h>
+#include <openssl/ssl.h>
+#include <openssl/x509v3.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
+#include <csignal>
 #include <cerrno>
 #include <random>
 
@@ -60,6 +67,33 @@ HttpReply parse_response_head(std::string_view head) {
   return reply;
 }
 
+// Writes `req` and reads the response from any connected stream, plain or TLS.
+template <class Stream>
+HttpReply exchange(Stream& stream, http::request<http::string_body>& req) {
+  HttpReply reply;
+  beast::error_code error;
+  http::write(stream, req, error);
+  // Even when the write failed (the server refused the body early), its answer may be there.
+  beast::flat_buffer buffer;
+  http::response_parser<http::string_body> parser;
+  parser.body_limit(64 * 1024 * 1024);
+  beast::error_code read_error;
+  http::read(stream, buffer, parser, read_error);
+  if (read_error) {
+    reply.status = 0;
+    reply.body = "no reply: " + read_error.message() +
+                 (error ? " (write: " + error.message() + ")" : std::string{});
+    return reply;
+  }
+  auto res = parser.release();
+  reply.status = res.result_int();
+  reply.body = res.body();
+  for (const auto& field : res) {
+    reply.headers[lower(std::string(field.name_string()))] = std::string(field.value());
+  }
+  return reply;
+}
+
 std::string random_key() {
   std::random_device random;
   std::string bytes(16, '\0');
@@ -91,9 +125,7 @@ HttpReply HttpClient::request_with_authorization(const std::string& method,
   HttpReply reply;
   try {
     boost::asio::io_context io;
-    beast::tcp_stream stream(io);
-    stream.expires_after(std::chrono::seconds(30));
-    stream.connect(tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port_));
+    const tcp::endpoint server(boost::asio::ip::make_address("127.0.0.1"), port_);
     http::request<http::string_body> req{http::string_to_verb(method), target, 11};
     req.set(http::field::host, "127.0.0.1");
     if (!authorization.empty()) req.set(http::field::authorization, authorization);
@@ -102,26 +134,25 @@ HttpReply HttpClient::request_with_authorization(const std::string& method,
       req.body() = body;
     }
     req.prepare_payload();
-    beast::error_code error;
-    http::write(stream, req, error);
-    // Even when the write failed (the server refused the body early), its answer may be there.
-    beast::flat_buffer buffer;
-    http::response_parser<http::string_body> parser;
-    parser.body_limit(64 * 1024 * 1024);
-    beast::error_code read_error;
-    http::read(stream, buffer, parser, read_error);
-    if (read_error) {
-      reply.status = 0;
-      reply.body = "no reply: " + read_error.message() +
-                   (error ? " (write: " + error.message() + ")" : std::string{});
-      return reply;
+    if (tls_ca_file_.empty()) {
+      beast::tcp_stream stream(io);
+      stream.expires_after(std::chrono::seconds(30));
+      stream.connect(server);
+      return exchange(stream, req);
     }
-    auto res = parser.release();
-    reply.status = res.result_int();
-    reply.body = res.body();
-    for (const auto& field : res) {
-      reply.headers[lower(std::string(field.name_string()))] = std::string(field.value());
-    }
+    namespace ssl = boost::asio::ssl;
+    ssl::context context(ssl::context::tls_client);
+    context.load_verify_file(tls_ca_file_.string());
+    context.set_verify_mode(ssl::verify_peer);
+    beast::ssl_stream<beast::tcp_stream> stream(io, context);
+    X509_VERIFY_PARAM_set1_ip_asc(SSL_get0_param(stream.native_handle()), "127.0.0.1");
+    beast::get_lowest_layer(stream).expires_after(std::chrono::seconds(30));
+    beast::get_lowest_layer(stream).connect(server);
+    stream.handshake(ssl::stream_base::client);
+    reply = exchange(stream, req);
+    // close_notify both ways, as a well-behaved client ends.
+    beast::error_code ignored;
+    stream.shutdown(ignored);
   } catch (const std::exception& error) {
     reply.status = 0;
     reply.body = std::string("request failed: ") + error.what();
@@ -149,12 +180,80 @@ RawConnection::RawConnection(std::uint16_t port, int receive_buffer_bytes) {
   }
 }
 
+struct RawConnection::Tls {
+  SSL_CTX* context = nullptr;
+  SSL* ssl = nullptr;
+  ~Tls() {
+    if (ssl != nullptr) SSL_free(ssl);
+    if (context != nullptr) SSL_CTX_free(context);
+  }
+};
+
 RawConnection::~RawConnection() {
+  tls_.reset();
   if (fd_ >= 0) ::close(fd_);
+}
+
+namespace {
+
+// Waits for what OpenSSL said it wants (SSL_ERROR_WANT_READ or _WRITE); false on timeout.
+bool wait_for(int fd, int ssl_error, std::chrono::steady_clock::time_point deadline) {
+  pollfd poll_fd{fd, static_cast<short>(ssl_error == SSL_ERROR_WANT_WRITE ? POLLOUT : POLLIN), 0};
+  return ::poll(&poll_fd, 1, remaining_ms(deadline)) > 0;
+}
+
+}  // namespace
+
+bool RawConnection::start_tls(const std::filesystem::path& ca_file,
+                              std::chrono::milliseconds timeout) {
+  if (fd_ < 0) return false;
+  // OpenSSL writes with write(): a server that closed must not end the test with SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
+  auto tls = std::make_unique<Tls>();
+  tls->context = SSL_CTX_new(TLS_client_method());
+  if (tls->context == nullptr ||
+      SSL_CTX_load_verify_locations(tls->context, ca_file.c_str(), nullptr) != 1) {
+    return false;
+  }
+  SSL_CTX_set_verify(tls->context, SSL_VERIFY_PEER, nullptr);
+  tls->ssl = SSL_new(tls->context);
+  if (tls->ssl == nullptr || SSL_set_fd(tls->ssl, fd_) != 1) return false;
+  X509_VERIFY_PARAM_set1_ip_asc(SSL_get0_param(tls->ssl), "127.0.0.1");
+  ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    const int result = SSL_connect(tls->ssl);
+    if (result == 1) break;
+    const int error = SSL_get_error(tls->ssl, result);
+    if ((error != SSL_ERROR_WANT_READ && error != SSL_ERROR_WANT_WRITE) ||
+        !wait_for(fd_, error, deadline)) {
+      ERR_clear_error();
+      return false;
+    }
+  }
+  tls_ = std::move(tls);
+  return true;
 }
 
 bool RawConnection::send(std::string_view bytes) {
   if (fd_ < 0) return false;
+  if (tls_) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!bytes.empty()) {
+      const int n = SSL_write(tls_->ssl, bytes.data(), static_cast<int>(bytes.size()));
+      if (n > 0) {
+        bytes.remove_prefix(static_cast<std::size_t>(n));
+        continue;
+      }
+      const int error = SSL_get_error(tls_->ssl, n);
+      if ((error != SSL_ERROR_WANT_READ && error != SSL_ERROR_WANT_WRITE) ||
+          !wait_for(fd_, error, deadline)) {
+        ERR_clear_error();
+        return false;
+      }
+    }
+    return true;
+  }
   while (!bytes.empty()) {
     const ssize_t n = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL);
     if (n < 0) {
@@ -166,8 +265,29 @@ bool RawConnection::send(std::string_view bytes) {
   return true;
 }
 
+bool RawConnection::fill_tls(std::chrono::steady_clock::time_point deadline) {
+  char chunk[65536];
+  while (true) {
+    const int n = SSL_read(tls_->ssl, chunk, sizeof chunk);
+    if (n > 0) {
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+      return true;
+    }
+    const int error = SSL_get_error(tls_->ssl, n);
+    if (error == SSL_ERROR_WANT_READ || error == SSL_ERROR_WANT_WRITE) {
+      if (!wait_for(fd_, error, deadline)) return false;
+      continue;
+    }
+    // close_notify, a reset, or a connection cut short.
+    ERR_clear_error();
+    eof_ = true;
+    return false;
+  }
+}
+
 bool RawConnection::fill(std::chrono::steady_clock::time_point deadline) {
   if (fd_ < 0 || eof_) return false;
+  if (tls_) return fill_tls(deadline);
   pollfd poll_fd{fd_, POLLIN, 0};
   const int ready = ::poll(&poll_fd, 1, remaining_ms(deadline));
   if (ready <= 0) return false;
@@ -259,9 +379,12 @@ std::string encode_client_frame(WsOp opcode, std::string_view payload, bool fin,
 }
 
 WsClient::WsClient(std::uint16_t port, const std::string& token, int receive_buffer_bytes,
-                   const std::string& target)
+                   const std::string& target, const std::filesystem::path& tls_ca_file)
     : connection_(std::make_unique<RawConnection>(port, receive_buffer_bytes)) {
   if (!connection_->connected()) throw WsHandshakeError(0, "cannot connect");
+  if (!tls_ca_file.empty() && !connection_->start_tls(tls_ca_file)) {
+    throw WsHandshakeError(0, "TLS handshake failed");
+  }
   const std::string path = target.empty() ? "/api/v1/stream?token=" + token : target;
   connection_->send("GET " + path +
                     " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -33,6 +34,14 @@ class HttpClient {
  public:
   HttpClient(std::uint16_t port, std::string token) : port_(port), token_(std::move(token)) {}
 
+  // The same client speaking https: it trusts the PEM certificate(s) in `ca_file` and checks that
+  // the server's certificate is for 127.0.0.1; a handshake that fails is a reply with status 0.
+  HttpClient over_tls(std::filesystem::path ca_file) const {
+    HttpClient copy = *this;
+    copy.tls_ca_file_ = std::move(ca_file);
+    return copy;
+  }
+
   HttpReply get(const std::string& target) const { return request("GET", target, ""); }
   HttpReply post(const std::string& target, const std::string& body) const {
     return request("POST", target, body);
@@ -54,13 +63,18 @@ class HttpClient {
   HttpReply request_with_authorization(const std::string& method, const std::string& target,
                                        const std::string& body,
                                        const std::string& authorization) const;
-  HttpClient with_token(std::string token) const { return {port_, std::move(token)}; }
+  HttpClient with_token(std::string token) const {
+    HttpClient copy = *this;
+    copy.token_ = std::move(token);
+    return copy;
+  }
   std::uint16_t port() const { return port_; }
   const std::string& token() const { return token_; }
 
  private:
   std::uint16_t port_;
   std::string token_;
+  std::filesystem::path tls_ca_file_;  // empty: plain http
 };
 
 // A plain TCP connection for protocol abuse: sends exactly the bytes given, reads what comes.
@@ -73,6 +87,10 @@ class RawConnection {
   RawConnection& operator=(const RawConnection&) = delete;
 
   bool connected() const { return fd_ >= 0; }
+  // Speaks TLS from now on (the handshake done here, within the timeout), trusting `ca_file` and
+  // checking the server's certificate is for 127.0.0.1. False when the handshake fails.
+  bool start_tls(const std::filesystem::path& ca_file,
+                 std::chrono::milliseconds timeout = std::chrono::seconds(10));
   // False when the peer has closed or reset the connection.
   bool send(std::string_view bytes);
   // Reads one HTTP response (header and a Content-Length body); nullopt on timeout or when the
@@ -90,10 +108,13 @@ class RawConnection {
  private:
   // Appends what arrives within the timeout to buffer_; false on EOF/error or timeout.
   bool fill(std::chrono::steady_clock::time_point deadline);
+  bool fill_tls(std::chrono::steady_clock::time_point deadline);
 
+  struct Tls;
   int fd_ = -1;
   bool eof_ = false;
   std::string buffer_;
+  std::unique_ptr<Tls> tls_;  // after start_tls()
 };
 
 enum class WsOp : std::uint8_t {
@@ -139,9 +160,9 @@ class WsHandshakeError : public std::runtime_error {
 class WsClient {
  public:
   // Connects and upgrades; throws WsHandshakeError when the server answers other than 101.
-  // `target`: empty means /api/v1/stream?token=TOKEN.
+  // `target`: empty means /api/v1/stream?token=TOKEN. `tls_ca_file`: not empty, wss trusting it.
   WsClient(std::uint16_t port, const std::string& token, int receive_buffer_bytes = 0,
-           const std::string& target = "");
+           const std::string& target = "", const std::filesystem::path& tls_ca_file = {});
 
   void send(const nlohmann::json& message) { send_text(message.dump()); }
   void send_text(std::string_view text) { send_raw(encode_client_frame(WsOp::kText, text)); }

@@ -270,9 +270,9 @@ class FakeTokens : public TokenAdminPort {
     return std::nullopt;
   }
   int created = 0;  // tokens made
-  std::pair<std::int64_t, std::string> create_token(Role, const std::string&) override {
+  CreatedToken create_token(Role, const std::string&, std::optional<std::int64_t>) override {
     ++created;
-    return {1, "token"};
+    return {1, "token", std::nullopt};
   }
   std::vector<TokenInfo> list_tokens() const override { return {}; }
   bool revoke_token(std::int64_t) override { return false; }

@@ -51,5 +51,28 @@ TEST(ConfigParser, APluginSectionWithAListAsAKeyIsAConfigError) {
   std::filesystem::remove(file);
 }
 
+TEST(ConfigParser, ReadsTheTlsFilesAndRefusesHalfOfThem) {
+  const Config config =
+      parse_config("server: {tls: {cert: /etc/mobot/cert.pem, key: /etc/mobot/key.pem}}\n", "t");
+  EXPECT_EQ(config.server.tls_cert, "/etc/mobot/cert.pem");
+  EXPECT_EQ(config.server.tls_key, "/etc/mobot/key.pem");
+  EXPECT_TRUE(config.server.tls());
+  EXPECT_NO_THROW(check_config_rules(config));
+  EXPECT_FALSE(parse_config("server: {port: 9000}\n", "t").server.tls()) << "no TLS by default";
+  EXPECT_FALSE(parse_config("server: {tls: null}\n", "t").server.tls());
+
+  EXPECT_NE(error_of("server: {tls: {cert: a.pem}}").find("server.tls.key: missing"),
+            std::string::npos);
+  EXPECT_NE(error_of("server: {tls: {key: a.key}}").find("server.tls.cert: missing"),
+            std::string::npos);
+  EXPECT_EQ(error_of("server: {tls: {cert: a.pem, key: b.key, ca: c.pem}}"),
+            "server.tls.ca: unknown key");
+  EXPECT_EQ(error_of("server: {tls: on}"), "server.tls: expected a mapping {cert: PATH, key: PATH}");
+  EXPECT_EQ(error_of("server: {tls: {cert: [a], key: b}}"), "server.tls.cert: expected a file path");
+  EXPECT_EQ(error_of("server: {tls: {cert: '', key: b}}"), "server.tls.cert: expected a file path");
+  EXPECT_NE(error_of("server: {tls: {[cert]: a}}").find("server.tls: keys are plain names"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace mobot::server

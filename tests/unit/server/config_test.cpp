@@ -77,6 +77,30 @@ TEST(Config, MessagesNameTheKeyAndTheRange) {
   EXPECT_NE(error_of("backend: cloud").find("backend: 'cloud'"), std::string::npos);
 }
 
+// The files themselves are looked at when the config is validated (after the flags): a path that
+// cannot be read is refused with its key, before the server starts anything.
+TEST(Config, TlsFilesThatCannotBeReadAreRefusedNamingTheKey) {
+  const auto cert = write_config("not really a certificate");
+  const auto key = write_config("not really a key");
+  EXPECT_NO_THROW(load_config(write_config("server: {tls: {cert: " + cert.string() +
+                                           ", key: " + key.string() + "}}\n")));
+  const std::string missing = "/nonexistent/mobot/key.pem";
+  const std::string message = error_of("server: {tls: {cert: " + cert.string() + ", key: " +
+                                       missing + "}}\n");
+  EXPECT_EQ(message.rfind("server.tls.key (--tls-key): cannot read " + missing, 0), 0U) << message;
+  const std::string directory = error_of("server: {tls: {cert: /tmp, key: " + key.string() + "}}");
+  EXPECT_NE(directory.find("server.tls.cert (--tls-cert): /tmp is a directory"), std::string::npos)
+      << directory;
+  // The flags go through the same check.
+  Config config;
+  config.server.tls_cert = cert;
+  EXPECT_THROW(validate_config(config), ConfigError) << "a certificate without a key";
+  config.server.tls_key = missing;
+  EXPECT_THROW(validate_config(config), ConfigError);
+  config.server.tls_key = key;
+  EXPECT_NO_THROW(validate_config(config));
+}
+
 TEST(Config, MisspeltKeysAreRejected) {
   EXPECT_EQ(error_of("robot: {laser_rate: 20}"), "robot.laser_rate: unknown key");
   EXPECT_EQ(error_of("robots: {}"), "robots: unknown key");
