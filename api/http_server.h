@@ -1,17 +1,21 @@
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/ssl/context.hpp>
 
 #include "api/ports/ports.h"
 #include "api/rest_api.h"
 #include "api/stream_hub.h"
 #include "api/tls_tunnel.h"
+#include "api/token_watch.h"
 
 namespace mobot::api {
 
@@ -39,6 +43,12 @@ class HttpServer {
 
  private:
   void accept_next();
+  void on_accept_error(boost::system::error_code error);
+
+  // Open connections (HTTP and stream) the server keeps at most; mobotd raises its descriptor
+  // limit above this at start. 1000 half-open connections (slow-loris) fit with room to spare.
+  static constexpr std::size_t kMaxConnections = 8000;
+  static constexpr std::chrono::milliseconds kAcceptPause{100};
   void serve_tls(boost::asio::ip::tcp::socket socket);
 
   boost::asio::io_context& io_;
@@ -49,6 +59,10 @@ class HttpServer {
   TlsTunnelTimeouts tls_timeouts_;
   TlsCounters tls_counters_;
   boost::asio::ip::tcp::acceptor acceptor_;
+  boost::asio::steady_timer accept_pause_;  // on the acceptor's strand
+  std::atomic<std::uint64_t> connections_refused_{0};
+  std::atomic<std::uint64_t> accept_errors_{0};
+  TokenWatch token_watch_;  // closes the streams of revoked and expired tokens
 };
 
 }  // namespace mobot::api

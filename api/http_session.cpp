@@ -14,6 +14,14 @@ namespace mobot::api {
 namespace {
 
 constexpr auto kIdleTimeout = std::chrono::seconds(60);
+// A request's header (or, between requests, the next one) must come within this: a client that
+// opens connections and trickles nothing, or a byte now and then (slow-loris), holds each only so
+// long. A body may take kIdleTimeout (a map import over a thin link).
+constexpr auto kHeaderTimeout = std::chrono::seconds(15);
+// Requests a connection may make: this many a second on average, this many at once. The dashboard
+// makes a few a second; a script polling in a tight loop on one connection is held to this.
+constexpr double kRequestsPerSecond = 200.0;
+constexpr double kRequestBurst = 400.0;
 constexpr std::size_t kHeaderLimit = kMaxRequestHeaderBytes;
 
 // RFC 6797: browsers that saw it use https for this host for a year, never plain http.
@@ -34,7 +42,12 @@ HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, Str
 
 HttpSession::HttpSession(boost::asio::ip::tcp::socket socket, RestApi& rest, StreamHub& hub,
                          const Ports& ports, ConnectionOrigin origin)
-    : stream_(std::move(socket)), rest_(rest), hub_(hub), ports_(ports), secure_(origin.secure) {
+    : stream_(std::move(socket)),
+      rest_(rest),
+      hub_(hub),
+      ports_(ports),
+      secure_(origin.secure),
+      request_budget_(kRequestsPerSecond, kRequestBurst) {
   if (origin.peer_address.empty() && !origin.secure) origin = tcp_origin(stream_.socket());
   client_.address = std::move(origin.peer_address);
   registration_ = hub_.clients().open(client_.address, unix_now_s());
@@ -52,7 +65,7 @@ void HttpSession::read_header() {
   // Beast checks Content-Length against the body limit while it parses the header, before the
   // path is known: start with the largest limit any endpoint allows and narrow it in on_header.
   parser_->body_limit(RestApi::kMaxBodyLimit);
-  stream_.expires_after(kIdleTimeout);
+  stream_.expires_after(kHeaderTimeout);
   http::async_read_header(stream_, buffer_, *parser_,
                           [self = shared_from_this()](boost::beast::error_code error, std::size_t) {
                             self->on_header(error);
@@ -83,6 +96,7 @@ void HttpSession::on_header(boost::beast::error_code error) {
     send(error_response(bare, 413, "body_too_large", "request body too large"), true);
     return;
   }
+  stream_.expires_after(kIdleTimeout);
   http::async_read(stream_, buffer_, *parser_,
                    [self = shared_from_this()](boost::beast::error_code read_error, std::size_t) {
                      self->on_body(read_error);
@@ -110,11 +124,26 @@ void HttpSession::on_body(boost::beast::error_code error) {
     spdlog::debug("{} {} {}", client_.address, std::string_view(request.method_string()),
                   redacted_target(request.target()));
   }
+  if (refused_for_rate(request)) return;
   if (boost::beast::websocket::is_upgrade(request)) {
     upgrade_to_stream(request);
     return;
   }
   answer(request);
+}
+
+bool HttpSession::refused_for_rate(const Request& request) {
+  const auto now = TokenBucket::Clock::now();
+  if (request_budget_.take(now)) return false;
+  const auto wait = std::chrono::ceil<std::chrono::seconds>(request_budget_.wait(now));
+  Response response =
+      error_response(request, 429, "rate_limited",
+                     "more than " + std::to_string(static_cast<int>(kRequestsPerSecond)) +
+                         " requests a second on this connection");
+  response.set(http::field::retry_after, std::to_string(std::max<long long>(1, wait.count())));
+  rest_.count_response(429);
+  send(std::move(response), !request.keep_alive());
+  return true;
 }
 
 void HttpSession::answer(const Request& request) {

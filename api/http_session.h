@@ -11,6 +11,7 @@
 #include "api/ports/ports.h"
 #include "api/rest_api.h"
 #include "api/stream_hub.h"
+#include "api/token_bucket.h"
 
 namespace mobot::api {
 
@@ -40,6 +41,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_header(boost::beast::error_code error);
   void on_body(boost::beast::error_code error);
   void answer(const Request& request);
+  // 429 for a request over the connection's rate; false when it may be answered.
+  bool refused_for_rate(const Request& request);
   void send(Response response, bool close_after);
   void upgrade_to_stream(const Request& request);
   void close();
@@ -53,6 +56,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   ClientRegistry::Registration registration_;
   ClientContext client_;
   bool secure_ = false;
+  TokenBucket request_budget_;
 };
 
 }  // namespace mobot::api

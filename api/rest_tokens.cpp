@@ -55,6 +55,9 @@ Response RestApi::route_tokens(const Request& request, const Segments& path) {
     if (!id || !ports_.tokens.revoke_token(*id)) {
       throw ApiError(404, "unknown_token", "no token with this id");
     }
+    // Its open streams close now, not at the next periodic check.
+    hub_.close_inactive_tokens(
+        [this](std::int64_t token_id) { return ports_.tokens.is_active(token_id); });
     Response response{http::status::no_content, request.version()};
     response.keep_alive(request.keep_alive());
     response.prepare_payload();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <boost/asio/post.hpp>
 #include <chrono>
+#include <map>
 
 #include "api/goal_json.h"
 #include "api/wall_clock.h"
@@ -11,6 +12,10 @@
 
 namespace mobot::api {
 namespace {
+
+// The close code of a stream whose token stopped authenticating: 4000-4999 are the
+// application's (RFC 6455 7.4.2), and 4401 reads as HTTP's 401.
+constexpr std::uint16_t kTokenInactive = 4401;
 
 std::shared_ptr<const std::string> as_text_frame(std::string payload) {
   return std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kText, payload));
@@ -420,6 +425,22 @@ void StreamHub::close_all() {
     sessions = sessions_;
   }
   for (const auto& session : *sessions) session->close(1001, "server shutting down");
+}
+
+void StreamHub::close_inactive_tokens(
+    const std::function<bool(std::int64_t token_id)>& is_active) {
+  std::shared_ptr<const SessionList> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    sessions = sessions_;
+  }
+  std::map<std::int64_t, bool> active;
+  for (const auto& session : *sessions) {
+    const std::int64_t token_id = session->token_id();
+    auto known = active.find(token_id);
+    if (known == active.end()) known = active.emplace(token_id, is_active(token_id)).first;
+    if (!known->second) session->close(kTokenInactive, "token revoked or expired");
+  }
 }
 
 void StreamHub::count_sent(std::uint64_t frames, std::uint64_t bytes) {

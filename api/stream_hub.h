@@ -3,6 +3,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -128,6 +129,9 @@ class StreamHub {
   std::string hello_frame() const;
   const StreamOptions& options() const { return options_; }
   void close_all();
+  // Closes, with 4401, every stream whose token no longer authenticates (revoked or expired);
+  // `is_active` is asked once per token in use.
+  void close_inactive_tokens(const std::function<bool(std::int64_t token_id)>& is_active);
 
   // Who drives: shared by the REST API and the stream sessions of every connection.
   OperatorLock& operator_lock() { return operator_lock_; }

@@ -51,6 +51,8 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   void deliver(const FrameBatch& frames);
   // Sends a close frame after everything queued, then releases the connection. Any thread.
   void close(std::uint16_t code, std::string reason);
+  // The token the client authenticated with.
+  std::int64_t token_id() const { return peer_.caller.token_id; }
 
  private:
   struct Subscription {

@@ -37,6 +37,19 @@ std::optional<TokenRecord> TokenStore::find(const std::string& hash) const {
   });
 }
 
+std::optional<TokenRecord> TokenStore::find_by_id(std::int64_t id) const {
+  return lookups_.read([&](const Connection& connection) -> std::optional<TokenRecord> {
+    Statement row = connection.prepare(
+        "SELECT id, role, label, created_unix_s, expires_at FROM tokens "
+        "WHERE id = ? AND revoked = 0");
+    row.bind(1, id);
+    if (!row.step()) return std::nullopt;
+    return TokenRecord{row.column_int64(0),  static_cast<Role>(row.column_int64(1)),
+                       row.column_text(2),   row.column_double(3),
+                       false,                optional_int64(row, 4)};
+  });
+}
+
 std::vector<TokenRecord> TokenStore::list() const {
   return database_.read([](const Connection& connection) {
     Statement rows = connection.prepare(

@@ -35,6 +35,8 @@ class TokenStore {
                    double created_unix_s, std::optional<std::int64_t> expires_unix_s = {});
   // The live (not revoked) token with this hash, expired or not, as last committed by anyone.
   std::optional<TokenRecord> find(const std::string& hash) const;
+  // The live token with this id, the same way.
+  std::optional<TokenRecord> find_by_id(std::int64_t id) const;
   std::vector<TokenRecord> list() const;
   // False when no live token has this id.
   bool revoke(std::int64_t id);

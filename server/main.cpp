@@ -3,6 +3,9 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -40,6 +43,20 @@ struct TokenFlags {
   std::int64_t id = 0;
   mobot::server::TokenCommand::Action action = mobot::server::TokenCommand::Action::kList;
 };
+
+// Every connection is a descriptor, and the default soft limit (1024) is below what the server
+// keeps open (api/http_server.h kMaxConnections) plus its devices and the store: raised as far as
+// the hard limit allows, at most 65536.
+void raise_descriptor_limit() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return;
+  const rlim_t wanted = std::min<rlim_t>(limit.rlim_max, 65536);
+  if (limit.rlim_cur >= wanted) return;
+  limit.rlim_cur = wanted;
+  if (::setrlimit(RLIMIT_NOFILE, &limit) != 0) {
+    spdlog::warn("could not raise the open-file limit to {}", static_cast<unsigned long>(wanted));
+  }
+}
 
 mobot::server::Config make_config(const Flags& flags) {
   using mobot::server::Config;
@@ -164,6 +181,7 @@ int main(int argc, char** argv) {
   auto logger = spdlog::stderr_color_mt("mobotd");
   spdlog::set_default_logger(logger);
   spdlog::set_level(spdlog::level::from_str(flags.log_level));
+  raise_descriptor_limit();
 
   try {
     mobot::server::App app(make_config(flags));

@@ -54,6 +54,9 @@ class TokenAdminPort {
                                     std::optional<std::int64_t> lifetime_s) = 0;
   virtual std::vector<TokenInfo> list_tokens() const = 0;
   virtual bool revoke_token(std::int64_t id) = 0;
+  // Whether the token with this id still authenticates (neither revoked nor expired): what a
+  // connection opened with it checks to stay open. The process's own token (0) always does.
+  virtual bool is_active(std::int64_t token_id) = 0;
 };
 
 }  // namespace mobot::api

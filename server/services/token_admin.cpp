@@ -68,4 +68,11 @@ std::vector<api::TokenInfo> TokenAdmin::list_tokens() const {
 
 bool TokenAdmin::revoke_token(std::int64_t id) { return tokens_.revoke(id); }
 
+bool TokenAdmin::is_active(std::int64_t token_id) {
+  if (token_id == 0) return !process_admin_hash_.empty();
+  const auto record = tokens_.find_by_id(token_id);
+  return record &&
+         !(record->expires_unix_s && now_() >= static_cast<double>(*record->expires_unix_s));
+}
+
 }  // namespace mobot::server

@@ -24,6 +24,7 @@ class TokenAdmin final : public api::TokenAdminPort {
                                  std::optional<std::int64_t> lifetime_s) override;
   std::vector<api::TokenInfo> list_tokens() const override;
   bool revoke_token(std::int64_t id) override;
+  bool is_active(std::int64_t token_id) override;
 
   // The plain admin token made for the first start, when the store has no usable admin token.
   std::optional<std::string> create_first_admin();

@@ -221,5 +221,67 @@ TEST_F(TokenToolTest, AnExpiredTokenIsRefusedAtOnceOverRestAndTheStream) {
   EXPECT_LT(listed.at("expires_at").get<double>(), static_cast<double>(std::time(nullptr)));
 }
 
+// How long until `stream` gets a close frame, and its code (0 when none came within 3 s).
+std::pair<std::chrono::milliseconds, int> time_to_close(WsClient& stream) {
+  const auto start = std::chrono::steady_clock::now();
+  while (auto frame = stream.read(3s)) {
+    if (frame->opcode == WsOp::kClose) {
+      return {std::chrono::duration_cast<std::chrono::milliseconds>(
+                  std::chrono::steady_clock::now() - start),
+              frame->close_code()};
+    }
+  }
+  return {3s, 0};
+}
+
+TEST_F(TokenToolTest, AnOpenStreamClosesWith4401WithinASecondOfItsTokensEnd) {
+  // Revoked through REST: at once.
+  {
+    const std::string token = create_token(admin(), "operator", "kate");
+    WsClient stream(port(), token);
+    const auto id = [&] {
+      for (const json& entry : tokens()) {
+        if (entry.at("label") == "kate") return entry.at("id").get<std::int64_t>();
+      }
+      return std::int64_t{-1};
+    }();
+    ASSERT_EQ(admin().del("/api/v1/tokens/" + std::to_string(id)).status, 204);
+    const auto [after, code] = time_to_close(stream);
+    EXPECT_EQ(code, 4401);
+    EXPECT_LT(after, 1s);
+  }
+  // Revoked by the tool, in another process: at the server's next check.
+  {
+    const CommandResult made = token_tool({"create", "--label", "liam", "--role", "viewer"});
+    ASSERT_EQ(made.exit_code, 0) << made.err;
+    WsClient stream(port(), trimmed(made.out));
+    std::int64_t id = -1;
+    for (const json& entry : tokens()) {
+      if (entry.at("label") == "liam") id = entry.at("id").get<std::int64_t>();
+    }
+    const CommandResult revoked = token_tool({"revoke", std::to_string(id)});
+    ASSERT_EQ(revoked.exit_code, 0) << revoked.err;
+    const auto [after, code] = time_to_close(stream);
+    EXPECT_EQ(code, 4401);
+    EXPECT_LT(after, 1s);
+  }
+  // Expired while open.
+  {
+    const HttpReply made = admin().post(
+        "/api/v1/tokens", json{{"role", "viewer"}, {"label", "mia"}, {"expires_in_s", 600}});
+    ASSERT_EQ(made.status, 201) << made.body;
+    WsClient stream(port(), made.json().at("token").get<std::string>());
+    expire_in_store(made.json().at("id").get<std::int64_t>(),
+                    static_cast<std::int64_t>(std::time(nullptr)) - 1);
+    const auto [after, code] = time_to_close(stream);
+    EXPECT_EQ(code, 4401);
+    EXPECT_LT(after, 1s);
+  }
+  // Another token's stream stays open through all of it.
+  WsClient other(port(), viewer_token());
+  other.send(json{{"op", "ping"}, {"id", "open"}});
+  EXPECT_TRUE(other.read_until("pong").has_value());
+}
+
 }  // namespace
 }  // namespace mobot::testing

@@ -8,6 +8,7 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -276,6 +277,19 @@ class FakeTokens : public TokenAdminPort {
   }
   std::vector<TokenInfo> list_tokens() const override { return {}; }
   bool revoke_token(std::int64_t) override { return false; }
+  bool is_active(std::int64_t token_id) override {
+    std::lock_guard lock(mutex_);
+    return !inactive.contains(token_id);
+  }
+  // The token with this id is revoked from now on.
+  void deactivate(std::int64_t token_id) {
+    std::lock_guard lock(mutex_);
+    inactive.insert(token_id);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::set<std::int64_t> inactive;
 };
 
 class FakeSweeps : public SweepsPort {

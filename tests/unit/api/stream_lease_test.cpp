@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "api/token_watch.h"
 #include "stream_session_harness.h"
 
 namespace mobot::api::test {
@@ -284,6 +285,45 @@ TEST_F(StreamRoundTripTest, PongsThatAreNotAnswersChangeNothing) {
   client->send_text(R"({"op":"ping","id":2})");
   ASSERT_TRUE(next_with(*client, R"("op":"pong")").has_value());
   for (const auto& view : hub_.clients().list()) EXPECT_FALSE(view.rtt_ms.has_value());
+}
+
+// The fake's tokens: viewer 1, operator 2, admin 3 (stream_session_harness.h).
+TEST_F(StreamLeaseTest, AStreamWhoseTokenStopsAuthenticatingIsClosedWith4401) {
+  auto viewer = open(Role::kViewer);
+  auto operator_client = open(Role::kOperator);
+  robot_.tokens.deactivate(1);
+  hub_.close_inactive_tokens([this](std::int64_t id) { return robot_.tokens.is_active(id); });
+  const std::vector<Frame> frames = viewer->read_to_end();
+  ASSERT_FALSE(frames.empty());
+  EXPECT_EQ(frames.back().opcode, 0x8U);
+  EXPECT_EQ(frames.back().close_code(), 4401U);
+  EXPECT_NE(frames.back().payload.find("revoked or expired"), std::string::npos);
+  // The other token's stream is untouched.
+  operator_client->send_text(R"({"op":"ping","id":"still"})");
+  EXPECT_TRUE(next_with(*operator_client, R"("id":"still")").has_value());
+  EXPECT_TRUE(wait_for_clients(1));
+}
+
+TEST_F(StreamLeaseTest, TheTokenWatchClosesARevokedTokensStreamWithinItsPeriod) {
+  TokenWatch watch(io_.get_executor(), hub_, robot_.tokens, 50ms);
+  watch.start();
+  auto client = open(Role::kOperator);
+  client->send_text(R"({"op":"teleop","v":0.2,"w":0,"ttl_ms":1000})");
+  ASSERT_TRUE(next_with(*client, R"("op":"teleop")").has_value());
+  const auto revoked = std::chrono::steady_clock::now();
+  robot_.tokens.deactivate(2);
+  const std::vector<Frame> frames = client->read_to_end();
+  const auto closed = std::chrono::steady_clock::now();
+  ASSERT_FALSE(frames.empty());
+  EXPECT_EQ(frames.back().close_code(), 4401U);
+  EXPECT_LT(closed - revoked, 500ms);
+  // Its drive stopped with it, and the lock went.
+  EXPECT_TRUE(wait_for_commands("teleop_stop", 1));
+  EXPECT_EQ(commands("teleop_stop")[0].reason, "stream_closed");
+  EXPECT_FALSE(hub_.operator_lock().holder(OperatorLock::Clock::now()).has_value());
+  watch.stop();
+  // The watch's last expiry finds it stopped before the fixture's io threads end.
+  std::this_thread::sleep_for(100ms);
 }
 
 }  // namespace
