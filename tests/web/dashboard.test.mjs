@@ -22,6 +22,11 @@
 // /api/v1/camera answers 404). operator_steps.mjs adds the operator lock (the Operator card, a
 // second token "bob" taking the lock, an admin take-over, two browser contexts contending) and the
 // admins' Connected list (skipped, saying why, when GET /api/v1/operator answers 404).
+// link_steps.mjs adds the login view (a wrong token refused with nothing loaded, a good one with its
+// role, Sign out, "remember me", a ?token= URL used once), the Link card's latency plot, and,
+// through link_proxy.mjs (an impairing TCP proxy in front of mobotd), the disconnect banner when
+// the link is cut and gone once it is back, teleop and round trips with 150 ms added each way, and
+// a 4401 close (token revoked) that sends the page to the login view.
 // Exit code 0 when every check passes (skips pass). Screenshots of failures go to tests/web/out/.
 
 import { spawn } from 'node:child_process';
@@ -34,6 +39,7 @@ import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { cameraSteps, REPO_ROOT } from './camera_steps.mjs';
 import { mappingLocalizationZoneSteps, Skip } from './mapping_steps.mjs';
+import { linkSteps } from './link_steps.mjs';
 import { operatorSteps } from './operator_steps.mjs';
 import { restProbe } from './rest_probe.mjs';
 
@@ -41,8 +47,8 @@ const HERE = dirname(fileURLToPath(import.meta.url));
 const OUT_DIR = join(HERE, 'out');
 const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
 // The mapping, localization and zone scenarios add about 40 s once the server has them (more on a
-// loaded machine), the camera scenarios (a second mobotd) about 30 s, the operator lock's (two more
-// browser contexts) about 25 s.
+// loaded machine), the camera scenarios (a second mobotd) about 30 s, the operator lock's (three more
+// browser contexts) about 30 s, the login and link scenarios (four contexts, a proxy) about 25 s.
 const TOTAL_BUDGET_MS = 250_000;
 
 // ---------------------------------------------------------------- arguments
@@ -405,15 +411,18 @@ async function main() {
       return `moved ${moved.toFixed(2)} m (page saw ${movedInPage.toFixed(2)} m)`;
     });
 
-    await step('e-stop button engages the e-stop; teleop is refused meanwhile', async () => {
+    await step('e-stop button engages the e-stop (on the stream); teleop is refused meanwhile', async () => {
       await page.click('[data-testid=estop]');
       await until('GET /api/v1/robot to report estop true', async () => (await rest(base, token, 'GET', '/api/v1/robot')).estop === true, 3000);
       await page.waitForSelector('[data-testid=estop-state][data-engaged=true]', { timeout: 3000 });
+      const ack = await page.evaluate(() => window.__mobot.estopAck);
+      if (ack?.via !== 'stream' || ack.engaged !== true) throw new Error(`the e-stop was acknowledged ${JSON.stringify(ack)}, expected on the stream`);
       await page.keyboard.down('w');
       await sleep(300);
       await page.keyboard.up('w');
       await page.waitForFunction(() => /estop_engaged/.test(window.__mobot.lastError ?? ''), null, { timeout: 3000 });
       await page.waitForSelector('[data-testid=toast-error]', { timeout: 2000 });
+      return `acknowledged on the stream in ${ack.elapsedMs.toFixed(0)} ms`;
     });
 
     await step('release button releases the e-stop', async () => {
@@ -737,7 +746,8 @@ async function main() {
       const fresh = await context.newPage();
       fresh.on('pageerror', (error) => pageErrors.push(`3D page: ${error}`));
       try {
-        await fresh.goto(`${base}/#3d`, { waitUntil: 'domcontentloaded' });
+        // A new tab has none of this tab's sessionStorage: the token comes with the URL.
+        await fresh.goto(`${base}/?token=${token}#3d`, { waitUntil: 'domcontentloaded' });
         await fresh.waitForFunction((n) => Number(document.querySelector('[data-testid=cloud-view]')?.dataset.points) === n, sweep.points, { timeout: 8000 });
         const state = await fresh.evaluate(() => window.__mobot.sweep);
         if (state.id !== sweep.id || state.status !== 'done') throw new Error(`the page shows ${JSON.stringify(state)}`);
@@ -775,6 +785,8 @@ async function main() {
     await mappingLocalizationZoneSteps({ page, base: () => base, token, step, rest, until, sleep, screenshot, toClient });
 
     await operatorSteps({ browser, page, base: () => base, token, step, rest, until, sleep, screenshot, pageErrors });
+
+    await linkSteps({ browser, page, base: () => base, token, step, rest, until, sleep, screenshot, pageErrors });
 
     // The camera robot: a mobotd of its own (same token), started from the repository root so the
     // config's relative paths and web/dist resolve; stopped and its data dir removed afterwards.

@@ -9,8 +9,10 @@
 //     key press is refused with a message naming bob (the robot does not move);
 //   - the page's admin token takes over from bob (the confirmation names him) and drives again,
 //     while bob's commands are refused;
-//   - two browser contexts contend: A (the admin token) and B (bob). B takes control, A sees
-//     "driven by bob" and takes over, B sees that it lost control and its key presses are refused;
+//   - three browser contexts contend: A (the admin token, from the URL), B (bob) and C (alice,
+//     another operator), both signed in on the login view. B takes control; A and C see "driven by
+//     bob", C's key press is refused naming him; A takes over, B sees that it lost control and its
+//     key presses are refused, C sees the admin drive;
 //   - A's Connected card lists both pages' streams with their labels and refreshes every 3 s (the
 //     Operator card asks every 2 s); B (not an admin) has no such card.
 
@@ -32,6 +34,9 @@ export async function operatorSteps(t) {
   let contextB = null;
   let pageA = null;
   let pageB = null;
+  let alice = null; // {id, token} of a second operator token made here
+  let contextC = null;
+  let pageC = null;
 
   /** The status, error code and body of a request (no throw). */
   const call = (token, method, path, body) => restProbe(t.base(), token, method, path, body);
@@ -59,7 +64,8 @@ export async function operatorSteps(t) {
   const ready = () => {
     if (skip) throw new Skip(skip);
   };
-  const openPage = async (context, token, name) => {
+  /** A page signed in with `token`: from the URL, or typed into the login view (`viaLogin`). */
+  const openPage = async (context, token, name, viaLogin = false) => {
     const p = await context.newPage();
     p.on('pageerror', (error) => t.pageErrors.push(`${name} page: ${error}`));
     p.on('console', (message) => {
@@ -67,7 +73,13 @@ export async function operatorSteps(t) {
         t.pageErrors.push(`${name} page console: ${message.text()}`);
       }
     });
-    await p.goto(`${t.base()}/?token=${token}`, { waitUntil: 'domcontentloaded' });
+    if (viaLogin) {
+      await p.goto(`${t.base()}/`, { waitUntil: 'domcontentloaded' });
+      await p.fill('[data-testid=login-token]', token);
+      await p.click('[data-testid=login-submit]');
+    } else {
+      await p.goto(`${t.base()}/?token=${token}`, { waitUntil: 'domcontentloaded' });
+    }
     await p.waitForFunction(() => window.__mobot && window.__mobot.connected && window.__mobot.operator.state !== 'unknown', null, { timeout: 10_000 });
     return p;
   };
@@ -165,25 +177,38 @@ export async function operatorSteps(t) {
       const refused = await call(bob.token, 'POST', '/api/v1/teleop', { v: 0.1, w: 0, ttl_ms: 300 });
       if (refused.status !== 409 || refused.code !== 'operator_busy') throw new Error(`bob's teleop after the take-over -> ${refused.status} ${refused.text.slice(0, 200)}`);
       if (await page.isVisible('[data-testid=teleop-locked]')) throw new Error('the teleop card still says it is refused');
-      // The page drives again.
+      // The page drives again: the control loop applies its commands (their echoes come back), and
+      // the robot moves or turns (an arc: the mapping drive may have left it against a wall ahead).
       const before = await truth();
+      const acksBefore = (await page.evaluate(() => window.__mobot.teleop)).acks;
       await page.locator('[data-testid=map-canvas]').hover();
+      await page.keyboard.down('a');
       await page.keyboard.down('w');
       await sleep(800);
       await page.keyboard.up('w');
+      await page.keyboard.up('a');
       const after = await truth();
-      if (!(moved(before, after) > 0.1)) throw new Error(`the robot moved ${moved(before, after).toFixed(3)} m after the take-over`);
+      const acks = (await page.evaluate(() => window.__mobot.teleop)).acks - acksBefore;
+      const turned = Math.abs(Math.atan2(Math.sin(after.theta - before.theta), Math.cos(after.theta - before.theta)));
+      if (!(acks >= 5)) throw new Error(`${acks} teleop echoes in 0.8 s after the take-over (robot moved ${moved(before, after).toFixed(3)} m, turned ${turned.toFixed(2)} rad)`);
+      if (!(moved(before, after) > 0.1 || turned > 0.2)) throw new Error(`the robot moved ${moved(before, after).toFixed(3)} m and turned ${turned.toFixed(2)} rad after the take-over (${acks} echoes)`);
       await page.click('[data-testid=operator-release]');
       await cardShows(page, 'free', /^nobody drives$/, 3000);
-      return `confirmation "${asked}"; "${line}"; bob's teleop -> 409 operator_busy; drove ${moved(before, after).toFixed(2)} m; released`;
+      return `confirmation "${asked}"; "${line}"; bob's teleop -> 409 operator_busy; drove ${moved(before, after).toFixed(2)} m, turned ${turned.toFixed(2)} rad (${acks} echoes); released`;
     });
 
-    await step('operator: two browser contexts contend: B (bob) takes control, A (admin) sees "driven by bob" and takes over, B sees it lost control', async () => {
+    await step('operator: three browser contexts contend: B (bob, login view) takes control, A (admin) and C (alice, login view) see "driven by bob", C is refused; A takes over, B sees it lost control, C sees the admin', async () => {
       ready();
       if (!bob) throw new Error('no bob token (an earlier scenario failed)');
+      alice = await t.rest(t.base(), t.token, 'POST', '/api/v1/tokens', { role: 'operator', label: 'alice' });
       contextA = await t.browser.newContext({ viewport: { width: 1440, height: 900 } });
       contextB = await t.browser.newContext({ viewport: { width: 1440, height: 900 } });
-      [pageA, pageB] = await Promise.all([openPage(contextA, t.token, 'A'), openPage(contextB, bob.token, 'B')]);
+      contextC = await t.browser.newContext({ viewport: { width: 1440, height: 900 } });
+      [pageA, pageB, pageC] = await Promise.all([
+        openPage(contextA, t.token, 'A'),
+        openPage(contextB, bob.token, 'B', true),
+        openPage(contextC, alice.token, 'C', true),
+      ]);
       // Whoever held it before lets go (bob's own release; the admin's for its own).
       await lock(bob.token, 'release');
       await lock(t.token, 'release');
@@ -196,6 +221,18 @@ export async function operatorSteps(t) {
       });
       const lineA = await lineOf(pageA);
       await screenshot(pageA, 'operator-a-sees-bob.png');
+      // C, another operator, sees bob too; its key press is refused naming him (by the server, or
+      // by the page once it knows), and bob keeps the lock.
+      await pageC.waitForFunction(() => /^driven by bob/.test(window.__mobot.operator.line), null, { timeout: 4000 });
+      await pageC.locator('[data-testid=map-canvas]').hover();
+      await pageC.keyboard.down('w');
+      await sleep(300);
+      await pageC.keyboard.up('w');
+      await pageC.waitForSelector('[data-testid=toast-error]:has-text("bob")', { timeout: 3000 });
+      const refusedC = (await pageC.textContent('[data-testid=toast-error]:has-text("bob")')).trim();
+      if ((await holder())?.label !== 'bob') throw new Error(`after C's key press GET /operator says ${JSON.stringify(await holder())}`);
+      const roleC = (await pageC.textContent('[data-testid=session-role]')).trim();
+      if (roleC !== 'operator') throw new Error(`C (alice) shows the role "${roleC}"`);
       await pageA.waitForSelector('[data-testid=operator-take-over]', { state: 'visible', timeout: 2000 });
       const stateB = await hook(pageB);
       if (stateB.admin !== false) throw new Error(`B (an operator token) has admin ${stateB.admin}`);
@@ -225,7 +262,15 @@ export async function operatorSteps(t) {
       const after = await truth();
       if (moved(before, after) > 0.05) throw new Error(`B's key press moved the robot ${moved(before, after).toFixed(3)} m`);
       await screenshot(pageB, 'operator-b-lost.png');
-      return `B: "${lineB}"; A: "${lineA}", confirmed "${asked}"; B: "${lost}", lostTo ${afterB.lostTo}`;
+      // C never drove: it cannot tell the admin from itself (held), or knows it is not (other).
+      await pageC.waitForFunction((label) => /^(held|other)$/.test(window.__mobot.operator.state) && window.__mobot.operator.line.startsWith(`driven by ${label}`), ADMIN_LABEL, { timeout: 4000 }).catch(async () => {
+        throw new Error(`C shows "${await lineOf(pageC)}" (${JSON.stringify(await hook(pageC))})`);
+      });
+      const lineC = await lineOf(pageC);
+      // C has done its part: closed, so it does not load the machine in the scenarios that follow.
+      await contextC.close();
+      contextC = null;
+      return `B: "${lineB}"; A: "${lineA}"; C (${roleC}): refused "${refusedC}"; A confirmed "${asked}"; B: "${lost}", lostTo ${afterB.lostTo}; C: "${lineC}"`;
     });
 
     await step('operator: A\'s Connected card (admin) lists both pages\' streams with their labels and refreshes every 3 s; B has none', async () => {
@@ -273,7 +318,9 @@ export async function operatorSteps(t) {
       await call(t.token, 'POST', '/api/v1/operator', { action: 'release' }).catch(() => {});
       if (bob) await call(bob.token, 'POST', '/api/v1/operator', { action: 'release' }).catch(() => {});
     }
+    if (alice) await call(alice.token, 'POST', '/api/v1/operator', { action: 'release' }).catch(() => {});
     if (contextA) await contextA.close().catch(() => {});
     if (contextB) await contextB.close().catch(() => {});
+    if (contextC) await contextC.close().catch(() => {});
   }
 }

@@ -1,12 +1,17 @@
-// Dashboard entry: token, REST client, stream, pages, e-stop and the test hooks (window.__mobot).
+// Dashboard entry: sign-in (login view, token kept per tab or remembered), REST client, stream,
+// pages, the Link card and the disconnect banner, e-stop (stream first, REST as the fallback) and
+// the test hooks (window.__mobot).
 
 import './style.css';
 import { ApiClient } from './api';
 import type { RobotStatus } from './api';
 import { ApiError, errorText } from './apierror';
-import { basePath, forgetToken, initialToken, saveToken, streamUrl } from './auth';
+import { basePath, forgetToken, saveToken, storedToken, streamUrl, takeUrlToken } from './auth';
 import { CameraPanel } from './camera_panel';
 import { ClientsPanel } from './clients_panel';
+import { localWallMs } from './clock_offset';
+import { EstopChannel, EstopRefused } from './estop';
+import type { EstopAck } from './estop';
 import type { Pose2D } from './frames';
 import type { SonarReading } from './map/layers/sonar';
 import { LivePage } from './pages/live';
@@ -15,6 +20,12 @@ import { covarianceEllipse, headingSigma } from './goals';
 import { NavigationPanel } from './nav';
 import type { NavError, NavMode } from './nav';
 import { IpabdOverlay } from './ipabdoverlay';
+import { bannerView, LinkBanner } from './link_banner';
+import { LinkPanel } from './link_panel';
+import type { SeriesSummary } from './link_panel';
+import type { SeriesKey } from './link';
+import { loginErrorText, probeRole, REVOKED_TEXT, roleTitle } from './login';
+import type { Role } from './login';
 import { LocalizationPanel } from './localization_panel';
 import { MappingPanel } from './mapping_panel';
 import { isDrivingCommand } from './operator';
@@ -26,7 +37,7 @@ import { RunsPage } from './pages/runs';
 import { StreamClient } from './stream';
 import type { ConnectionState } from './stream';
 import { TTL_MS } from './teleop';
-import { byId, toast } from './ui';
+import { byId, fmt, toast } from './ui';
 
 declare global {
   interface Window {
@@ -143,6 +154,38 @@ export interface MobotHooks {
     error: string | null;
     polls: number;
   };
+  /**
+   * Sign-in: a token is in use, its role (null: not read yet or unreadable), whether it is kept on
+   * this device (localStorage) rather than for this tab, and the login view is shown.
+   */
+  readonly session: { signedIn: boolean; role: Role | null; remembered: boolean; loginShown: boolean; loginError: string | null };
+  /**
+   * The Link card: plot samples held (60 s at 4 Hz) and plots drawn; the newest sample's values
+   * (ms): the ping round trip, the teleop echo's, the ages of the pose and scan on screen;
+   * the clock offset (null: not measured) and the round trip of the pong it came from; bytes/s;
+   * dropped frames (full-rate topics) and gaps on thinned ones; summary(seconds) of each series.
+   */
+  readonly link: {
+    samples: number;
+    drawn: number;
+    pingRttMs: number | null;
+    teleopRttMs: number | null;
+    poseAgeMs: number | null;
+    scanAgeMs: number | null;
+    offsetMs: number | null;
+    offsetRttMs: number | null;
+    offsetMeasured: boolean;
+    bytesPerSecond: number | null;
+    dropped: number;
+    thinnedGaps: number;
+    summary(seconds: number): Record<SeriesKey, SeriesSummary>;
+  };
+  /** The disconnect banner: shown, its words, the reconnect attempt. */
+  readonly banner: { shown: boolean; title: string; detail: string; attempt: number };
+  /** Stream teleop: the last seq sent on this connection, echoes received, drives cut by the link. */
+  readonly teleop: { seq: number; acks: number; interrupts: number };
+  /** The last e-stop acknowledgement: state, how it went (stream or REST) and how long it took. */
+  readonly estopAck: EstopAck | null;
   /** The Connected card (admins): shown, open, refreshing, the rows, GETs while open, the last error. */
   readonly clients: {
     shown: boolean;
@@ -154,9 +197,18 @@ export interface MobotHooks {
   };
 }
 
-let token = initialToken();
+let token = '';
+/** A token is in use (the dashboard is shown); false while the login view is. */
+let signedIn = false;
+/** The token in use is kept on this device (localStorage), not only for this tab. */
+let remembered = false;
+let role: Role | null = null;
+/** The stream was open at least once since sign-in: a close after that is an outage. */
+let everConnected = false;
+let lastConnectionDetail = '';
 const api = new ApiClient(token, basePath());
 let estopEngaged: boolean | null = null;
+let lastEstopAck: EstopAck | null = null;
 let currentPage = 'live';
 let lastError: string | null = null;
 let connectionState: ConnectionState = 'disconnected';
@@ -188,6 +240,7 @@ const stream = new StreamClient({
       switch (topic) {
         case 'pose':
           live.onPose(data as PoseData);
+          link.onPose(meta.wallUs);
           cloud3d.onPose(data as PoseData);
           nav.onClock(meta.t);
           break;
@@ -230,7 +283,10 @@ const stream = new StreamClient({
           break;
       }
     },
-    scan: (scan) => live.onScan(scan),
+    scan: (scan, meta) => {
+      live.onScan(scan);
+      link.onScan(meta.wallUs);
+    },
     map: (map) => {
       live.onMap(map);
       runs.setMap(map);
@@ -246,6 +302,8 @@ const stream = new StreamClient({
     cloud: (chunk) => cloud3d.onChunk(chunk),
     camera: (jpeg) => camera.onFrame(jpeg),
     serverError: (code, message) => {
+      // A refused e-stop request is reported by the e-stop button's own message.
+      if (estop.onStreamError(code, message)) return;
       lastError = `${code}: ${message}`;
       if (code === 'operator_busy') {
         // Teleop is the only stream op the lock guards; the card asks who drives now.
@@ -255,23 +313,40 @@ const stream = new StreamClient({
       }
       toast(`${message} (${code})`, 'error');
     },
-    teleopAck: (v, w) => {
-      live.onTeleopAck(v, w);
+    teleopAck: (ack) => {
+      live.onTeleopAck(ack.v, ack.w, ack.seq, ack.rttMs);
+      link.onTeleopAck(ack);
       operator.commandAccepted();
     },
+    estopAck: (engaged) => {
+      // An answer nothing waits for (the request already went by REST) still tells the state.
+      if (!estop.onStreamAck(engaged)) showEstop(engaged);
+    },
+    pong: (pong) => link.onPong(pong),
   },
 });
 
-const live = new LivePage(stream, (command) => {
+const live = new LivePage((command) => {
+  const moving = command.v !== 0 || command.w !== 0;
   // Somebody else surely drives: nothing is sent (a held key would be refused 15 times a second);
   // a drive input says why, the release of one says nothing.
   if (operator.view.blocksCommands) {
-    if (command.v !== 0 || command.w !== 0) lastError = operator.refuseLocally('Teleop') ?? lastError;
-    return false;
+    if (moving) lastError = operator.refuseLocally('Teleop') ?? lastError;
+    return 'refused';
   }
-  const sent = stream.send({ op: 'teleop', v: command.v, w: command.w, ttl_ms: TTL_MS });
-  if (!sent && (command.v !== 0 || command.w !== 0)) toast('Not connected: teleop is not sent', 'error');
-  return sent;
+  // Each command is a lease of TTL_MS: without a link it is dropped, never kept for later.
+  if (stream.sendTeleop(command.v, command.w, TTL_MS)) return 'sent';
+  if (moving) toast('Not connected: teleop is not sent', 'error');
+  return 'offline';
+});
+const link = new LinkPanel(stream);
+const banner = new LinkBanner(byId('link-banner'), byId('link-banner-title'), byId('link-banner-detail'));
+const estop = new EstopChannel({
+  streamSend: (engaged) => stream.connected && stream.send({ op: 'estop', engaged }),
+  rest: async (engaged) => (await api.estop(engaged)).estop,
+  now: () => performance.now(),
+  setTimeout: (fn, ms) => window.setTimeout(fn, ms),
+  clearTimeout: (handle) => window.clearTimeout(handle as number),
 });
 const nav = new NavigationPanel(api, live.mapView, () => live.lastPose);
 const camera = new CameraPanel(api, {
@@ -512,6 +587,40 @@ window.__mobot = {
       polls: operator.polls,
     };
   },
+  get session() {
+    const error = byId('auth-error');
+    return { signedIn, role, remembered, loginShown: !byId('login').hidden, loginError: error.hidden ? null : error.textContent };
+  },
+  get link() {
+    const now = localWallMs();
+    const latest = link.monitor.latest();
+    const offset = link.monitor.currentOffset(now);
+    const gaps = link.gaps();
+    return {
+      samples: link.monitor.history().length,
+      drawn: link.drawn,
+      pingRttMs: latest?.pingRttMs ?? null,
+      teleopRttMs: latest?.teleopRttMs ?? null,
+      poseAgeMs: latest?.poseAgeMs ?? null,
+      scanAgeMs: latest?.scanAgeMs ?? null,
+      offsetMs: offset?.offsetMs ?? null,
+      offsetRttMs: offset?.rttMs ?? null,
+      offsetMeasured: link.monitor.offsetMeasured,
+      bytesPerSecond: link.monitor.bytesPerSecond(),
+      dropped: gaps.dropped,
+      thinnedGaps: gaps.thinned,
+      summary: (seconds: number) => link.summary(seconds),
+    };
+  },
+  get banner() {
+    return { ...banner.view, attempt: stream.attempt };
+  },
+  get teleop() {
+    return { seq: stream.teleopSeq, acks: stream.teleopAcks, interrupts: live.teleop.interrupts };
+  },
+  get estopAck() {
+    return lastEstopAck ? { ...lastEstopAck } : null;
+  },
   get clients() {
     return {
       shown: clients.admin === true,
@@ -552,6 +661,7 @@ function showFault(detail: unknown): void {
 
 function showConnection(state: ConnectionState, detail: string): void {
   connectionState = state;
+  lastConnectionDetail = detail;
   const el = byId('connection');
   el.dataset.state = state;
   const labels: Record<ConnectionState, string> = {
@@ -564,8 +674,8 @@ function showConnection(state: ConnectionState, detail: string): void {
   byId('connection-detail').textContent = state === 'disconnected' && detail ? detail : '';
   el.title = detail;
   document.body.classList.toggle('offline', state !== 'connected');
-  if (state === 'auth_error') showLogin('The server refused the token (401 unauthorized). Enter a valid token.');
   if (state === 'connected') {
+    everConnected = true;
     void loadServerInfo();
     void nav.load();
     void mapping.connected();
@@ -578,11 +688,37 @@ function showConnection(state: ConnectionState, detail: string): void {
     if (ipabd.enabled) void ipabd.refresh();
     if (currentPage !== 'live') void refreshPage(currentPage);
   } else {
+    // Whatever was being driven stops by its lease; nothing held now drives again on its own.
+    live.teleop.interrupt();
+    link.disconnected();
+    // An e-stop sent on the closed stream may be lost: REST carries it now.
+    estop.onDisconnected();
     camera.disconnected();
     operator.disconnected();
     clients.disconnected();
   }
+  if (state === 'auth_error' && signedIn) {
+    const why = stream.authFailure === 'revoked' ? REVOKED_TEXT : 'The server refused the token (401 unauthorized). Sign in with a valid token.';
+    signOut(why, true);
+  }
+  updateBanner();
 }
+
+/** The disconnect banner, from the stream's state and its reconnect schedule. */
+function updateBanner(): void {
+  banner.render(
+    bannerView({
+      state: signedIn ? connectionState : 'auth_error',
+      everConnected,
+      attempt: stream.attempt,
+      nextInMs: stream.nextAttemptAt === null ? null : stream.nextAttemptAt - performance.now(),
+      reason: lastConnectionDetail,
+      leaseMs: TTL_MS,
+    }),
+  );
+}
+// The countdown to the next attempt moves.
+window.setInterval(updateBanner, 250);
 
 async function loadServerInfo(): Promise<void> {
   try {
@@ -602,15 +738,16 @@ async function loadServerInfo(): Promise<void> {
   try {
     onRobotStatus(await api.robot());
   } catch (error) {
-    if (error instanceof ApiError && error.status === 401) showLogin(`The server refused the token: ${error.describe()}`);
+    if (error instanceof ApiError && error.status === 401) signOut(loginErrorText(error), true);
   }
 }
 
-// ---- login ----
+// ---- sign-in ----
 
+/** The login view, with why it is shown (null: just signed out, or no token yet). */
 function showLogin(message: string | null): void {
-  const login = byId('login');
-  login.hidden = false;
+  document.body.classList.add('signed-out');
+  byId('login').hidden = false;
   const error = byId('auth-error');
   error.hidden = !message;
   error.textContent = message ?? '';
@@ -619,51 +756,124 @@ function showLogin(message: string | null): void {
   input.focus();
 }
 
-byId('login-form').addEventListener('submit', (e) => {
-  e.preventDefault();
-  const value = byId<HTMLInputElement>('login-token').value.trim();
-  if (!value) return;
-  token = value;
-  saveToken(token);
+function showRole(value: Role | null): void {
+  role = value;
+  const el = byId('session-role');
+  el.textContent = value ?? '';
+  el.dataset.role = value ?? '';
+  el.title = `This token's role — ${roleTitle(value)}. ${remembered ? 'Remembered on this device' : 'Kept for this tab only'} until you sign out.`;
+}
+
+/**
+ * Uses `candidate` if the server takes it (GET /api/v1/robot is not 401): kept per `remember`,
+ * its role read and shown, the stream opened. `source` says where it came from: a token typed in
+ * must be confirmed by the server; a stored one (or one from the URL) is used while the server
+ * cannot be reached, the stream retrying meanwhile.
+ */
+async function signIn(candidate: string, remember: boolean, source: 'form' | 'url' | 'stored'): Promise<boolean> {
+  const probe = new ApiClient(candidate, basePath());
+  let status: RobotStatus | null = null;
+  try {
+    status = await probe.robot();
+  } catch (error) {
+    const refused = error instanceof ApiError && error.status === 401;
+    if (refused || source === 'form') {
+      // A stored token the server refuses is of no use any more.
+      if (refused && source !== 'form') forgetToken();
+      if (refused) showConnection('auth_error', errorText(error));
+      showLogin(loginErrorText(error));
+      return false;
+    }
+  }
+  token = candidate;
+  remembered = remember;
+  saveToken(token, remember);
   api.setToken(token);
+  signedIn = true;
+  everConnected = false;
   operator.tokenChanged();
   clients.tokenChanged();
   byId('login').hidden = true;
-  void start();
-});
+  byId('auth-error').hidden = true;
+  document.body.classList.remove('signed-out');
+  showRole(null);
+  if (status) onRobotStatus(status);
+  void probeRole((method, path, body) => api.statusOf(method, path, body)).then((found) => {
+    if (token !== candidate) return; // signed out (or in again) meanwhile
+    showRole(found);
+    if (source === 'form' && found) toast(`Signed in as ${found}`, 'ok');
+  });
+  stream.restart();
+  if (currentPage !== 'live') void refreshPage(currentPage);
+  return true;
+}
 
-byId('signout').addEventListener('click', () => {
+/**
+ * Forgets the token (this tab and this device), closes the stream and shows the login view;
+ * `refused`: because the server turned the token down (the connection then reads auth_error).
+ */
+function signOut(message: string | null, refused = false): void {
   forgetToken();
   token = '';
+  signedIn = false;
+  remembered = false;
   api.setToken('');
+  showRole(null);
   operator.tokenChanged();
   clients.tokenChanged();
   stream.stop();
-  showLogin(null);
+  if (refused) showConnection('auth_error', message ?? '');
+  showLogin(message);
+  updateBanner();
+}
+
+byId('login-form').addEventListener('submit', (e) => {
+  e.preventDefault();
+  const value = byId<HTMLInputElement>('login-token').value.trim();
+  if (!value) {
+    showLogin('Enter a token.');
+    return;
+  }
+  const submit = byId<HTMLButtonElement>('login-submit');
+  submit.disabled = true;
+  submit.textContent = 'Checking…';
+  void signIn(value, byId<HTMLInputElement>('login-remember').checked, 'form').finally(() => {
+    submit.disabled = false;
+    submit.textContent = 'Sign in';
+  });
 });
+
+byId('signout').addEventListener('click', () => signOut(null));
 
 // ---- e-stop ----
 
-function showEstop(engaged: boolean): void {
+function showEstop(engaged: boolean, ack: EstopAck | null = null): void {
   estopEngaged = engaged;
   const state = byId('estop-state');
   state.dataset.engaged = String(engaged);
   state.textContent = engaged ? 'E-STOP ENGAGED' : 'e-stop released';
+  if (ack) {
+    state.dataset.via = ack.via;
+    state.title = `${engaged ? 'Engaged' : 'Released'} at ${new Date().toLocaleTimeString(undefined, { hour12: false })}: acknowledged ${ack.via === 'stream' ? 'on the stream' : 'by REST'} in ${fmt(ack.elapsedMs, 0)} ms`;
+  }
   byId('estop-overlay').hidden = !engaged;
   document.body.classList.toggle('estopped', engaged);
 }
 
 async function setEstop(engaged: boolean): Promise<void> {
   try {
-    const reply = await api.estop(engaged);
-    showEstop(reply.estop);
-    live.setEstop(reply.estop);
+    const ack = await estop.set(engaged);
+    lastEstopAck = ack;
+    showEstop(ack.engaged, ack);
+    live.setEstop(ack.engaged);
     // The mode follows on the next status frame (1 Hz); ask now so the panel does not lag.
     window.setTimeout(() => void api.robot().then((status) => live.onStatus(status), () => {}), 150);
-    toast(reply.estop ? 'E-stop engaged' : 'E-stop released', reply.estop ? 'error' : 'ok');
+    const how = `acknowledged ${ack.via === 'stream' ? 'on the stream' : 'by REST'} in ${fmt(ack.elapsedMs, 0)} ms`;
+    toast(`${ack.engaged ? 'E-stop engaged' : 'E-stop released'} — ${how}`, ack.engaged ? 'error' : 'ok');
   } catch (error) {
-    lastError = errorText(error);
-    toast(`E-stop request failed: ${errorText(error)}`, 'error');
+    const text = error instanceof EstopRefused ? `${error.message} (${error.code})` : errorText(error);
+    lastError = error instanceof EstopRefused ? `${error.code}: ${error.message}` : text;
+    toast(`E-stop request failed: ${text}`, 'error');
   }
 }
 
@@ -673,6 +883,8 @@ byId('estop-release').addEventListener('click', () => void setEstop(false));
 // ---- tabs ----
 
 async function refreshPage(page: string): Promise<void> {
+  // Signed out, nothing is asked of the server.
+  if (!signedIn) return;
   if (page === 'maps') await maps.refresh();
   if (page === 'runs') await runs.refresh();
   if (page === '3d') await cloud3d.show();
@@ -694,6 +906,7 @@ function showPage(page: string): void {
   zones.enabled = page === 'live';
   camera.setVisible(page === 'live');
   clients.setVisible(page === 'live');
+  link.setVisible(page === 'live');
   if (page !== 'live') {
     nav.setMode(null);
     zones.stop();
@@ -709,23 +922,13 @@ for (const tab of document.querySelectorAll<HTMLElement>('.tab')) {
 
 // ---- start ----
 
-async function start(): Promise<void> {
-  if (!token) {
-    showLogin(null);
-    return;
-  }
-  // Ask REST first so a bad token is reported at once instead of as a failing socket.
-  try {
-    await api.robot();
-  } catch (error) {
-    if (error instanceof ApiError && error.status === 401) {
-      showConnection('auth_error', error.describe());
-      showLogin(`The server refused the token: ${error.describe()}`);
-      return;
-    }
-    // Unreachable or another error: the stream keeps retrying with backoff.
-  }
-  stream.restart();
+/** A ?token= on the URL (taken once, off the address bar), else a kept one, else the login view. */
+function start(): void {
+  const fromUrl = takeUrlToken();
+  const kept = storedToken();
+  if (fromUrl) void signIn(fromUrl, false, 'url');
+  else if (kept) void signIn(kept.token, kept.remembered, 'stored');
+  else showLogin(null);
 }
 
 const initial = window.location.hash.replace('#', '');
@@ -733,4 +936,4 @@ if (initial === 'maps' || initial === 'runs' || initial === '3d') showPage(initi
 window.addEventListener('unhandledrejection', (e) => {
   lastError = errorText(e.reason);
 });
-void start();
+start();

@@ -1,5 +1,5 @@
-// Per-topic stream statistics: frames per second, seq gaps (frames dropped for this client) and
-// publish-to-receipt latency from wall_us. Pure: time is passed in.
+// Per-topic stream statistics: frames per second, seq gaps (frames dropped for this client, or
+// thinned by max_rate_hz) and publish-to-receipt latency from wall_us. Pure: time is passed in.
 
 export interface TopicStat {
   frames: number;
@@ -64,6 +64,30 @@ export class StreamStats {
     for (const stat of this.topics.values()) stat.lastSeq = 0;
   }
 
+  /**
+   * Forgets one topic's seq baseline: it was (un)subscribed again, and the frames published
+   * while it was not subscribed were never meant for this client.
+   */
+  resetTopic(topic: string): void {
+    const stat = this.topics.get(topic);
+    if (stat) stat.lastSeq = 0;
+  }
+
+  /**
+   * The seq gaps split by what they mean: `dropped` on topics subscribed at full rate (frames the
+   * server dropped for this client, or lost), `thinned` on topics subscribed with max_rate_hz
+   * (where a gap is mostly the thinning asked for).
+   */
+  gapsByKind(thinnedTopics: ReadonlySet<string>): { dropped: number; thinned: number } {
+    let dropped = 0;
+    let thinned = 0;
+    for (const [topic, stat] of this.topics) {
+      if (thinnedTopics.has(topic)) thinned += stat.gaps;
+      else dropped += stat.gaps;
+    }
+    return { dropped, thinned };
+  }
+
   get(topic: string): TopicStat | undefined {
     return this.topics.get(topic);
   }
@@ -79,7 +103,7 @@ export class StreamStats {
   }
 }
 
-/** Exponential reconnect delay: 250 ms, 500 ms, 1 s, 2 s, 2 s, ... with a little jitter. */
+/** Exponential reconnect delay: 250 ms, 500 ms, 1 s, 2 s, 2 s, ... (by default) with a little jitter. */
 export function backoffDelayMs(attempt: number, baseMs = 250, maxMs = 2000, jitter = 0): number {
   const delay = Math.min(maxMs, baseMs * 2 ** Math.max(0, attempt));
   return Math.round(delay * (1 - jitter / 2 + jitter * Math.random()));

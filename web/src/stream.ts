@@ -1,5 +1,8 @@
 // The WebSocket stream of mobotd: connects with ?token=, subscribes on hello, decodes JSON and
-// binary frames, measures latency (ping/pong and wall_us), and reconnects with exponential backoff.
+// binary frames, numbers the teleop commands (a lease each, docs/api.md "The teleop lease"),
+// measures the link (app-level pings every second; bytes received), notices a stalled link (no
+// message at all for STALL_MS) and reconnects with exponential backoff, except after the server
+// closed with 4401 (the token was revoked or expired).
 
 import { costmapFromJson } from './costmap';
 import type { Costmap, JsonCostmap } from './costmap';
@@ -7,6 +10,7 @@ import { cameraFromJson, cloudFromJson, decodeBinaryFrame, FrameError, mapFromJs
 import type { BinaryFrame, CloudChunk, FrameHeader, JsonCamera, JsonCloud, JsonMap, JsonScan, LaserScan, MapGrid } from './frames';
 import { particlesFromJson } from './particles';
 import type { JsonParticles, ParticleSet } from './particles';
+import { localWallMs } from './clock_offset';
 import { backoffDelayMs, StreamStats } from './stats';
 import { isTileJson, tilesFromJson } from './tiles';
 import type { TileUpdate } from './tiles';
@@ -25,6 +29,27 @@ export const WANTED_TOPICS = [
 const OPTIONAL_TOPICS = ['truth', 'ir', 'costmap', 'local_costmap', 'particles', 'target'];
 
 export type ConnectionState = 'connecting' | 'connected' | 'disconnected' | 'auth_error';
+
+/** Why the stream stopped for good: the upgrade was refused (401), or the server closed with 4401. */
+export type AuthFailure = 'refused' | 'revoked';
+
+/** Reconnect delays: 0.5, 1, 2, 4, 5, 5 ... s (a little jitter so many pages do not come back at once). */
+export const RECONNECT_BASE_MS = 500;
+export const RECONNECT_MAX_MS = 5000;
+/**
+ * No message at all for this long and the link is stalled: pongs answer the pings every second
+ * and the pose comes at 50 Hz, so 2 s of silence is no quiet robot.
+ */
+export const STALL_MS = 2000;
+/** How often the silence is looked at. */
+const LIVENESS_CHECK_MS = 250;
+/**
+ * A liveness check this late means the page itself was frozen (a long task, a background tab):
+ * its silence says nothing about the link, so the silence is measured again from then.
+ */
+const FROZEN_PAGE_MS = 1500;
+/** The close code of a token that was revoked or has expired (docs/api.md). */
+export const CLOSE_TOKEN_REVOKED = 4401;
 
 export interface HelloTopic {
   name: string;
@@ -63,8 +88,27 @@ export interface StreamHandlers {
   camera?(jpeg: Uint8Array, meta: FrameMeta): void;
   /** `{"op":"error"}` replies: unknown op/topic, teleop refused (estop_engaged, forbidden) ... */
   serverError?(code: string, message: string): void;
-  teleopAck?(v: number, w: number): void;
-  pong?(rttMs: number): void;
+  /** A teleop command applied by the control loop; its round trip when the echo carries `sent_ms`. */
+  teleopAck?(ack: TeleopAck): void;
+  /** The e-stop state after a stream `{"op":"estop"}` of this page was carried out. */
+  estopAck?(engaged: boolean): void;
+  pong?(pong: Pong): void;
+}
+
+export interface TeleopAck {
+  v: number;
+  w: number;
+  seq: number | null;
+  /** performance.now() at sending minus at the echo; null when the echo has no `sent_ms`. */
+  rttMs: number | null;
+}
+
+export interface Pong {
+  /** Local wall clock (ms, localWallMs) when the ping left and when its pong arrived. */
+  sentMs: number;
+  receivedMs: number;
+  /** The server's wall clock when it answered (Unix us); absent on servers that do not send it. */
+  wallUs?: number;
 }
 
 /** Decides, after a connection failed before opening, whether the token is the reason. */
@@ -75,8 +119,8 @@ export interface StreamOptions {
   handlers: StreamHandlers;
   authProbe?: AuthProbe;
   pingIntervalMs?: number;
-  /** No message for this long while connected: the socket is considered dead and reopened. */
-  silenceTimeoutMs?: number;
+  /** No message for this long while connected: the link is stalled, the socket is dropped and reopened. */
+  stallMs?: number;
   maxBackoffMs?: number;
 }
 
@@ -86,28 +130,45 @@ export class StreamClient {
   rttMs: number | null = null;
   subscribed: string[] = [];
   reconnects = 0;
+  /** Reconnect attempts since the last open connection (0 while connected). */
+  attempt = 0;
+  /** performance.now() of the next reconnect attempt; null when none is scheduled. */
+  nextAttemptAt: number | null = null;
+  /** Why the stream stopped for good (auth_error); null otherwise. */
+  authFailure: AuthFailure | null = null;
+  /** Every byte received on every connection (text frames counted by their length). */
+  bytesReceived = 0;
+  /** Topics subscribed with max_rate_hz on this connection: their seq gaps are thinning, not loss. */
+  readonly thinnedTopics = new Set<string>();
+  /** The last teleop `seq` sent on this connection (0: none yet); each connection starts at 1. */
+  teleopSeq = 0;
+  /** Teleop echoes received (all connections). */
+  teleopAcks = 0;
 
   private socket: WebSocket | null = null;
-  private attempt = 0;
   private opened = false;
   private stopped = true;
   private reconnectTimer: number | undefined;
   private pingTimer: number | undefined;
+  private livenessTimer: number | undefined;
   private pingId = 0;
   private readonly pendingPings = new Map<number, number>();
   private lastMessageAt = 0;
+  private lastCheckAt = 0;
 
   constructor(private readonly options: StreamOptions) {}
 
   start(): void {
     this.stopped = false;
     this.attempt = 0;
+    this.authFailure = null;
     this.open();
   }
 
   stop(): void {
     this.stopped = true;
     window.clearTimeout(this.reconnectTimer);
+    this.nextAttemptAt = null;
     this.closeSocket();
     this.setState('disconnected', 'stopped');
   }
@@ -122,11 +183,39 @@ export class StreamClient {
     return this.state === 'connected';
   }
 
-  /** Sends one JSON op; false when the socket is not open. */
+  /**
+   * Sends one JSON op; false when the socket is not open. Nothing is queued for later: a message
+   * that cannot go now is dropped (a joystick command replayed after a reconnect would be stale).
+   */
   send(message: object): boolean {
     if (!this.socket || this.socket.readyState !== WebSocket.OPEN) return false;
     this.socket.send(JSON.stringify(message));
+    this.noteSubscription(message as Record<string, unknown>);
     return true;
+  }
+
+  /**
+   * One teleop command, a lease of `ttlMs`: numbered on this connection (`seq`, from 1) and
+   * stamped with performance.now() (`sent_ms`), which the server echoes for the round trip.
+   */
+  sendTeleop(v: number, w: number, ttlMs: number): boolean {
+    if (!this.connected) return false;
+    const seq = this.teleopSeq + 1;
+    const sent = this.send({ op: 'teleop', v, w, ttl_ms: ttlMs, seq, sent_ms: Math.round(performance.now() * 1000) / 1000 });
+    if (sent) this.teleopSeq = seq;
+    return sent;
+  }
+
+  /** Subscriptions decide what a seq gap means; a topic (re)subscribed counts from its next frame. */
+  private noteSubscription(message: Record<string, unknown>): void {
+    if ((message.op !== 'subscribe' && message.op !== 'unsubscribe') || !Array.isArray(message.topics)) return;
+    const thinned = message.op === 'subscribe' && typeof message.max_rate_hz === 'number';
+    for (const topic of message.topics) {
+      if (typeof topic !== 'string') continue;
+      if (thinned) this.thinnedTopics.add(topic);
+      else this.thinnedTopics.delete(topic);
+      this.stats.resetTopic(topic);
+    }
   }
 
   private setState(state: ConnectionState, detail = ''): void {
@@ -153,6 +242,9 @@ export class StreamClient {
       if (socket !== this.socket) return;
       this.opened = true;
       this.attempt = 0;
+      this.nextAttemptAt = null;
+      this.teleopSeq = 0;
+      this.thinnedTopics.clear();
       this.lastMessageAt = performance.now();
       this.stats.resetSequences();
       this.setState('connected');
@@ -161,8 +253,13 @@ export class StreamClient {
     socket.onmessage = (event: MessageEvent) => {
       if (socket !== this.socket) return;
       this.lastMessageAt = performance.now();
-      if (typeof event.data === 'string') this.onText(event.data);
-      else if (event.data instanceof ArrayBuffer) this.onBinary(event.data);
+      if (typeof event.data === 'string') {
+        this.bytesReceived += event.data.length;
+        this.onText(event.data);
+      } else if (event.data instanceof ArrayBuffer) {
+        this.bytesReceived += event.data.byteLength;
+        this.onBinary(event.data);
+      }
     };
     socket.onclose = (event: CloseEvent) => {
       if (socket !== this.socket) return;
@@ -180,6 +277,11 @@ export class StreamClient {
     this.opened = false;
     this.subscribed = [];
     if (this.stopped) return;
+    if (event.code === CLOSE_TOKEN_REVOKED) {
+      // Trying again with the same token would only be refused: the person has to sign in.
+      this.fail('revoked', event.reason || 'the token was revoked or has expired');
+      return;
+    }
     const reason = event.reason ? `${event.reason} (${event.code})` : `closed (${event.code})`;
     this.setState('disconnected', reason);
     if (!wasOpen && this.options.authProbe) {
@@ -187,19 +289,26 @@ export class StreamClient {
       const verdict = await this.options.authProbe();
       if (this.stopped) return;
       if (verdict === 'unauthorized') {
-        this.setState('auth_error', 'the server refused the token');
-        this.stopped = true;
+        this.fail('refused', 'the server refused the token');
         return;
       }
     }
     this.scheduleReconnect();
   }
 
+  private fail(why: AuthFailure, detail: string): void {
+    this.authFailure = why;
+    this.stopped = true;
+    this.nextAttemptAt = null;
+    this.setState('auth_error', detail);
+  }
+
   private scheduleReconnect(): void {
     if (this.stopped) return;
-    const delay = backoffDelayMs(this.attempt, 250, this.options.maxBackoffMs ?? 2000, 0.2);
+    const delay = backoffDelayMs(this.attempt, RECONNECT_BASE_MS, this.options.maxBackoffMs ?? RECONNECT_MAX_MS, 0.2);
     this.attempt++;
     this.reconnects++;
+    this.nextAttemptAt = performance.now() + delay;
     window.clearTimeout(this.reconnectTimer);
     this.reconnectTimer = window.setTimeout(() => this.open(), delay);
   }
@@ -221,28 +330,35 @@ export class StreamClient {
   private startPings(): void {
     this.stopPings();
     const interval = this.options.pingIntervalMs ?? 1000;
-    const silence = this.options.silenceTimeoutMs ?? 5000;
+    this.lastCheckAt = performance.now();
+    this.livenessTimer = window.setInterval(() => this.checkLiveness(), LIVENESS_CHECK_MS);
     this.pingTimer = window.setInterval(() => {
-      if (performance.now() - this.lastMessageAt > silence) {
-        // Half-open connection (e.g. the network vanished): drop it and reconnect.
-        const socket = this.socket;
-        this.socket = null;
-        this.closeSocketQuietly(socket);
-        this.stopPings();
-        this.subscribed = [];
-        this.setState('disconnected', 'no data from the server');
-        this.scheduleReconnect();
-        return;
-      }
       const id = ++this.pingId;
-      this.pendingPings.set(id, performance.now());
+      this.pendingPings.set(id, localWallMs());
       if (this.pendingPings.size > 20) {
         const oldest = this.pendingPings.keys().next().value;
         if (oldest !== undefined) this.pendingPings.delete(oldest);
       }
       this.send({ op: 'ping', id });
-      this.stats.tick(Date.now());
+      this.stats.tick(localWallMs());
     }, interval);
+  }
+
+  /** No message for STALL_MS while the page ran: a stalled or half-open link; drop it and reconnect. */
+  private checkLiveness(): void {
+    const now = performance.now();
+    if (now - this.lastCheckAt > FROZEN_PAGE_MS) this.lastMessageAt = Math.max(this.lastMessageAt, now);
+    this.lastCheckAt = now;
+    const stallMs = this.options.stallMs ?? STALL_MS;
+    if (now - this.lastMessageAt <= stallMs) return;
+    const socket = this.socket;
+    this.socket = null;
+    this.closeSocketQuietly(socket);
+    this.stopPings();
+    this.opened = false;
+    this.subscribed = [];
+    this.setState('disconnected', `stalled: no data for ${(stallMs / 1000).toFixed(0)} s`);
+    this.scheduleReconnect();
   }
 
   private closeSocketQuietly(socket: WebSocket | null): void {
@@ -257,7 +373,9 @@ export class StreamClient {
 
   private stopPings(): void {
     window.clearInterval(this.pingTimer);
+    window.clearInterval(this.livenessTimer);
     this.pingTimer = undefined;
+    this.livenessTimer = undefined;
     this.pendingPings.clear();
   }
 
@@ -278,9 +396,11 @@ export class StreamClient {
           const sent = this.pendingPings.get(Number(message.id));
           if (sent !== undefined) {
             this.pendingPings.delete(Number(message.id));
-            const rtt = performance.now() - sent;
+            const received = localWallMs();
+            const rtt = received - sent;
             this.rttMs = this.rttMs === null ? rtt : 0.7 * this.rttMs + 0.3 * rtt;
-            handlers.pong?.(rtt);
+            const wallUs = typeof message.wall_us === 'number' && message.wall_us > 0 ? message.wall_us : undefined;
+            handlers.pong?.({ sentMs: sent, receivedMs: received, wallUs });
           }
           return;
         }
@@ -300,8 +420,21 @@ export class StreamClient {
         case 'error':
           handlers.serverError?.(String(message.code ?? 'error'), String(message.message ?? ''));
           return;
-        case 'teleop':
-          handlers.teleopAck?.(Number(message.v), Number(message.w));
+        case 'teleop': {
+          this.teleopAcks++;
+          const sentMs = typeof message.sent_ms === 'number' ? message.sent_ms : null;
+          const rtt = sentMs === null ? null : performance.now() - sentMs;
+          handlers.teleopAck?.({
+            v: Number(message.v),
+            w: Number(message.w),
+            seq: typeof message.seq === 'number' ? message.seq : null,
+            // sent_ms is this page's performance.now(): an echo that is not one is no round trip.
+            rttMs: rtt !== null && rtt >= 0 && rtt < 60_000 ? rtt : null,
+          });
+          return;
+        }
+        case 'estop':
+          if (typeof message.engaged === 'boolean') handlers.estopAck?.(message.engaged);
           return;
         default:
           return;
@@ -315,7 +448,7 @@ export class StreamClient {
       seq: typeof message.seq === 'number' ? message.seq : undefined,
       wallUs: typeof message.wall_us === 'number' ? message.wall_us : undefined,
     };
-    this.stats.record(topic, meta.seq, topic === 'map' ? undefined : meta.wallUs, Date.now(), text.length);
+    this.stats.record(topic, meta.seq, topic === 'map' ? undefined : meta.wallUs, localWallMs(), text.length);
     try {
       if (topic === 'scan' && handlers.scan) handlers.scan(scanFromJson(message.data as JsonScan), meta);
       else if (topic === 'map' && isTileJson(message.data)) handlers.tiles?.(tilesFromJson(message.data), meta);
@@ -347,7 +480,7 @@ export class StreamClient {
     const meta: FrameMeta = { topic, t: header.t, seq: header.seq, wallUs: header.wallUs };
     // The map is re-sent on subscribe with its original stamp: its wall_us is an age, not a lag.
     const wallUs = frame.kind === 'map' ? undefined : header.wallUs;
-    this.stats.record(topic, header.seq, wallUs, Date.now(), buffer.byteLength);
+    this.stats.record(topic, header.seq, wallUs, localWallMs(), buffer.byteLength);
     const handlers = this.options.handlers;
     switch (frame.kind) {
       case 'scan':

@@ -1,6 +1,9 @@
 // Teleoperation inputs: on-screen joystick (pointer events), keyboard (WASD / arrows, hold to
 // drive) and the Gamepad API (left stick). While any input is active a command is sent at
-// SEND_HZ; when the last one is released a single zero command follows.
+// SEND_HZ; when the last one is released a single zero command follows. A command that cannot be
+// sent because the link is down is dropped, not kept, and ends the gesture: after the link is back
+// the operator presses again (a key held through an outage, or the joystick held still, does not
+// drive the robot again on its own with what they meant seconds ago).
 
 export const SEND_HZ = 15;
 export const TTL_MS = 300;
@@ -55,11 +58,16 @@ export function isTypingTarget(target: EventTarget | null): boolean {
   return false;
 }
 
+/** sent; refused here (somebody else drives: nothing went out); offline (no link: dropped). */
+export type SendResult = 'sent' | 'refused' | 'offline';
+
 export interface TeleopOptions {
-  /** Sends one command; false when it could not be sent (not connected). */
-  send(command: Command): boolean;
+  /** Sends one command now, or says why it did not go. */
+  send(command: Command): SendResult;
   /** Called on each change of the active command (null: idle). */
   onChange?(command: Command | null, source: TeleopSource | null): void;
+  /** A drive was cut short by the link (see interrupt()). */
+  onInterrupt?(): void;
 }
 
 export class TeleopController {
@@ -71,6 +79,11 @@ export class TeleopController {
   private timer: number | undefined;
   private active = false;
   private lastSource: TeleopSource | null = null;
+  /** Since an interrupt: the joystick and the gamepad drive again only after a release. */
+  private joystickLatched = false;
+  private gamepadLatched = false;
+  /** Interrupts (link lost while driving), for the test hooks. */
+  interrupts = 0;
 
   constructor(private readonly options: TeleopOptions) {
     window.addEventListener('keydown', this.onKeyDown);
@@ -102,8 +115,29 @@ export class TeleopController {
 
   /** The joystick widget reports its axes, or null on release. */
   setJoystick(axes: { forward: number; turn: number } | null): void {
+    if (axes === null) this.joystickLatched = false;
+    else if (this.joystickLatched) return;
     this.joystick = axes;
     this.tick();
+  }
+
+  /**
+   * The link went down: every input is let go without a command (none can be sent), and none
+   * drives again until it is released and pressed anew.
+   */
+  interrupt(): void {
+    this.keys.clear();
+    // Only a joystick held now waits for its release (one not touched must work on the first drag);
+    // the gamepad's latch lets go by itself at the first reading of a centred stick.
+    this.joystickLatched = this.joystick !== null;
+    this.joystick = null;
+    this.gamepadLatched = true;
+    if (!this.active) return;
+    this.active = false;
+    this.lastSource = null;
+    this.interrupts++;
+    this.options.onChange?.(null, null);
+    this.options.onInterrupt?.();
   }
 
   releaseAll = (): void => {
@@ -117,7 +151,8 @@ export class TeleopController {
     const key = e.key.toLowerCase();
     if (!DRIVE_KEYS.has(key)) return;
     e.preventDefault();
-    if (this.keys.has(key)) return; // auto-repeat
+    // Auto-repeat: a key still held after an interrupt repeats, and must be pressed again.
+    if (e.repeat || this.keys.has(key)) return;
     this.keys.add(key);
     this.tick();
   };
@@ -139,8 +174,11 @@ export class TeleopController {
     if (!pad || pad.axes.length < 2) return null;
     const turn = -applyDeadzone(pad.axes[0] ?? 0);
     const forward = -applyDeadzone(pad.axes[1] ?? 0);
-    if (forward === 0 && turn === 0) return null;
-    return { forward, turn };
+    if (forward === 0 && turn === 0) {
+      this.gamepadLatched = false;
+      return null;
+    }
+    return this.gamepadLatched ? null : { forward, turn };
   }
 
   /** The command the inputs ask for now, or null when none is active. */
@@ -177,7 +215,10 @@ export class TeleopController {
       this.lastTick = now;
       this.active = true;
       this.lastSource = wanted.source;
-      this.options.send(wanted.command);
+      if (this.options.send(wanted.command) === 'offline') {
+        this.interrupt();
+        return;
+      }
       this.options.onChange?.(wanted.command, wanted.source);
     } else if (this.active) {
       this.active = false;

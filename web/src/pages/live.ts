@@ -1,5 +1,5 @@
 // The Live page: map canvas with robot, scan, sonar, IR, costmaps, particles and truth; status,
-// link statistics, events and teleop panels.
+// events and teleop panels (the Link card is link_panel.ts).
 
 import type { RobotStatus } from '../api';
 import { costColor, cssColor } from '../costmap';
@@ -14,9 +14,8 @@ import type { TileUpdate } from '../tiles';
 import { DIFFERENTIAL, kinematicsLabel, robotBody, steeringText } from '../tricycle';
 import type { RobotBody } from '../tricycle';
 import { MapView } from '../map/mapview';
-import type { StreamClient } from '../stream';
 import { mountJoystick, TeleopController } from '../teleop';
-import type { Command, TeleopSource } from '../teleop';
+import type { Command, SendResult, TeleopSource } from '../teleop';
 import { headingSigma } from '../goals';
 import { byId, clockTime, deg, detailText, fmt, h } from '../ui';
 
@@ -72,10 +71,7 @@ export class LivePage {
   private poseDirty = false;
   private particlesAt = 0;
 
-  constructor(
-    private readonly stream: StreamClient,
-    sendTeleop: (command: Command) => boolean,
-  ) {
+  constructor(sendTeleop: (command: Command) => SendResult) {
     this.mapView = new MapView(byId<HTMLCanvasElement>('map-canvas'));
     byId('view-fit').addEventListener('click', () => this.mapView.fit());
     byId('view-robot').addEventListener('click', () => this.mapView.centerOnRobot());
@@ -103,6 +99,7 @@ export class LivePage {
     this.teleop = new TeleopController({
       send: sendTeleop,
       onChange: (command, source) => this.showTeleop(command, source),
+      onInterrupt: () => this.showTeleopInterrupted(),
     });
     mountJoystick(byId('joystick'), byId('joystick-knob'), this.teleop);
     const speed = byId<HTMLInputElement>('speed');
@@ -117,7 +114,7 @@ export class LivePage {
 
     // Text panels refresh at 10 Hz: the pose arrives at 50 Hz, the DOM need not.
     window.setInterval(() => this.refreshText(), 100);
-    window.setInterval(() => this.refreshLink(), 1000);
+    window.setInterval(() => this.dropStaleParticles(), 1000);
   }
 
   // ---- stream data ----
@@ -235,8 +232,19 @@ export class LivePage {
     }
   }
 
-  onTeleopAck(v: number, w: number): void {
-    byId('teleop-ack').textContent = `ack ${fmt(v)} m/s · ${fmt(w)} rad/s`;
+  /** The server applied teleop command `seq`; `rttMs` from sending it to this echo. */
+  onTeleopAck(v: number, w: number, seq: number | null, rttMs: number | null): void {
+    const el = byId('teleop-ack');
+    el.textContent = `ack${seq === null ? '' : ` #${seq}`}${rttMs === null ? '' : ` · ${fmt(rttMs, 0)} ms`}`;
+    el.title = `applied ${fmt(v)} m/s · ${fmt(w)} rad/s (within the speed limits)${rttMs === null ? '' : `; sent -> applied -> echo in ${fmt(rttMs, 1)} ms`}`;
+    el.classList.remove('warn');
+  }
+
+  /** The link went down while driving: the command was dropped; driving needs a new press. */
+  private showTeleopInterrupted(): void {
+    const el = byId('teleop-ack');
+    el.textContent = 'link lost: command dropped — press again once reconnected';
+    el.classList.add('warn');
   }
 
   /**
@@ -347,29 +355,11 @@ export class LivePage {
     byId('events-count').textContent = this.events.length ? `${this.events.length}` : '';
   }
 
-  private refreshLink(): void {
+  /** Once a second: a particle cloud nobody refreshed is the stopped filter's last, and goes. */
+  private dropStaleParticles(): void {
     if (this.particlesAt > 0 && !this.particlesLive) {
       this.onParticles(null);
       this.onParticlesStale?.();
     }
-    const stats = this.stream.stats;
-    byId('lnk-rtt').textContent = this.stream.rttMs === null ? '–' : `${fmt(this.stream.rttMs, 1)} ms`;
-    const pose = stats.get('pose') ?? stats.get('scan');
-    byId('lnk-wall').textContent =
-      pose?.latencyMs === null || pose?.latencyMs === undefined ? '–' : `${fmt(pose.latencyMs, 1)} ms`;
-    byId('lnk-gaps').textContent = String(stats.totalGaps());
-    const body = byId('topics').querySelector('tbody')!;
-    body.replaceChildren(
-      ...stats.entries().map(([topic, s]) =>
-        h(
-          'tr',
-          { testid: `topic-${topic}` },
-          h('td', { text: topic }),
-          h('td', { class: 'mono', text: fmt(s.rateHz, 1) }),
-          h('td', { class: `mono${s.gaps ? ' warn' : ''}`, text: String(s.gaps) }),
-          h('td', { class: 'mono', text: s.latencyMs === null ? '–' : `${fmt(s.latencyMs, 1)} ms` }),
-        ),
-      ),
-    );
   }
 }
