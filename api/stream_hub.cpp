@@ -477,6 +477,9 @@ std::string StreamHub::metrics_text() const {
   out += "# TYPE mobot_stream_messages_rate_limited_total counter\n";
   out += "mobot_stream_messages_rate_limited_total " +
          std::to_string(messages_rate_limited_.load()) + "\n";
+  out += "# HELP mobot_stream_frames_thinned_total Frames left out for a client's max_kbps.\n";
+  out += "# TYPE mobot_stream_frames_thinned_total counter\n";
+  out += "mobot_stream_frames_thinned_total " + std::to_string(frames_thinned_.load()) + "\n";
   return out;
 }
 

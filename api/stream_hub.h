@@ -141,6 +141,7 @@ class StreamHub {
   void count_sent(std::uint64_t frames, std::uint64_t bytes);
   void count_dropped() { frames_dropped_.fetch_add(1, std::memory_order_relaxed); }
   void count_rate_limited() { messages_rate_limited_.fetch_add(1, std::memory_order_relaxed); }
+  void count_thinned() { frames_thinned_.fetch_add(1, std::memory_order_relaxed); }
   std::string metrics_text() const;
 
  private:
@@ -198,6 +199,7 @@ class StreamHub {
   std::atomic<std::uint64_t> bytes_sent_{0};
   std::atomic<std::uint64_t> frames_dropped_{0};
   std::atomic<std::uint64_t> messages_rate_limited_{0};
+  std::atomic<std::uint64_t> frames_thinned_{0};
   std::atomic<std::uint64_t> sessions_opened_{0};
   OperatorLock operator_lock_;
   ClientRegistry clients_;

@@ -32,6 +32,7 @@ SubscribeRequest parse_subscribe(const nlohmann::json& request) {
     subscribe.min_interval_us = static_cast<std::int64_t>(1e6 / rate_hz);
   }
   subscribe.camera_quality = optional_integer(request, "camera_quality", 1, 100).value_or(0);
+  subscribe.max_kbps = optional_number(request, "max_kbps", 0.0, 1e6);
   return subscribe;
 }
 

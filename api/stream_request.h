@@ -21,6 +21,8 @@ struct SubscribeRequest {
   bool binary = true;
   std::int64_t min_interval_us = 0;  // from max_rate_hz; 0: every frame
   int camera_quality = 0;            // 0: the camera's own
+  // The connection's byte-rate cap (kbit/s; 0: none); absent: as it was.
+  std::optional<double> max_kbps;
 };
 
 struct UnsubscribeRequest {

@@ -101,6 +101,14 @@ void StreamSession::take_locked(TopicId topic, const SharedFrame& frame) {
           static_cast<std::int64_t>(kRateTolerance * subscription.min_interval_us)) {
     return;
   }
+  // Under a byte-rate cap the sampled sensor and bulk topics thin out; the state and whatever
+  // loses information when skipped (map tiles, cloud chunks, events) always go, charged.
+  const TopicSpec& spec = topic_spec(topic);
+  if (!budget_.take(bytes->size(), spec.sampled ? spec.priority : TopicPriority::kState,
+                    ByteBudget::Clock::now())) {
+    hub_.count_thinned();
+    return;
+  }
   subscription.last_sent_wall_us = frame.wall_us;
   auto& queue = topic_queues_[i];
   if (queue.size() >= hub_.options().max_frames_per_topic) {
@@ -345,6 +353,10 @@ void StreamSession::carry_out(const SubscribeRequest& request) {
     wants_map = wants_map || *topic == TopicId::kMap;
     accepted.push_back(name);
   }
+  if (request.max_kbps) {
+    std::lock_guard lock(mutex_);
+    budget_.set_rate(*request.max_kbps * 1000.0 / 8.0, ByteBudget::Clock::now());
+  }
   note_topics();
   if (!accepted.empty()) reply({{"op", "subscribed"}, {"topics", accepted}});
   if (!unknown.empty()) {
@@ -528,10 +540,15 @@ bool StreamSession::gather_locked() {
   in_flight_bytes_ = 0;
   for (auto& frame : control_queue_) in_flight_.push_back(std::move(frame));
   control_queue_.clear();
-  for (auto& queue : topic_queues_) {
-    if (queue.empty()) continue;
-    for (auto& frame : queue) in_flight_.push_back(std::move(frame));
-    queue.clear();
+  // The state first, then the sensors, then the bulk: on a thin link the pose is not stuck
+  // behind a camera frame in the socket's buffer.
+  for (std::size_t priority = 0; priority < kPriorityCount; ++priority) {
+    for (const TopicSpec& spec : kTopics) {
+      if (static_cast<std::size_t>(spec.priority) != priority) continue;
+      auto& queue = topic_queues_[topic_index(spec.id)];
+      for (auto& frame : queue) in_flight_.push_back(std::move(frame));
+      queue.clear();
+    }
   }
   buffers_.clear();
   for (const auto& frame : in_flight_) {

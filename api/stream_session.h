@@ -15,6 +15,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <nlohmann/json.hpp>
 
+#include "api/byte_budget.h"
 #include "api/ports/ports.h"
 #include "api/rest_reply.h"
 #include "api/stream_hub.h"
@@ -142,6 +143,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   // A few frames each (max_frames_per_topic): vectors keep their storage from tick to tick.
   std::array<std::vector<std::shared_ptr<const std::string>>, kTopicCount> topic_queues_{};
   std::deque<std::shared_ptr<const std::string>> control_queue_;
+  ByteBudget budget_;  // the client's max_kbps
   // Owned by whoever set writing_: the frames being written and their buffers.
   std::vector<std::shared_ptr<const std::string>> in_flight_;
   std::vector<boost::asio::const_buffer> buffers_;

@@ -250,6 +250,51 @@ TEST_F(StreamRateTest, AFloodIsDroppedButAnEstopInItIsCarriedOut) {
   EXPECT_EQ(std::count(accepted.begin(), accepted.end(), "set_estop"), 1);
 }
 
+TEST_F(StreamLeaseTest, UnderAByteRateCapThePoseGoesAndTheScansThinOut) {
+  auto client = open(Role::kViewer);
+  client->send_text(R"({"op":"subscribe","topics":["pose","scan"],"max_kbps":200})");
+  ASSERT_TRUE(next_with(*client, R"("op":"subscribed")").has_value());
+  msgs::LaserScan scan;
+  scan.ranges_m.assign(1250, 1.0F);  // about 5 kB a frame: 250 kB/s at 50 Hz, the cap 25 kB/s
+  const auto started = std::chrono::steady_clock::now();
+  constexpr int kTicks = 50;
+  for (int tick = 1; tick <= kTicks; ++tick) {
+    const double t_s = tick * 0.02;
+    hub_.publish_pose(t_s, {t_s, 0.0, 0.0}, {}, {});
+    scan.stamp_s = t_s;
+    hub_.publish_scan(scan, {});
+    hub_.flush();
+    std::this_thread::sleep_until(started + tick * 20ms);
+  }
+  hub_.publish_pose(9.0, {9.0, 0.0, 0.0}, {}, {});
+  hub_.flush();
+  int poses = 0;
+  int scans = 0;
+  while (auto frame = client->read()) {
+    if (frame->opcode == 0x2U) ++scans;
+    if (frame->payload.find(R"("topic":"pose")") != std::string::npos) {
+      ++poses;
+      if (frame->payload.find(R"("t":9.0)") != std::string::npos) break;
+    }
+  }
+  EXPECT_EQ(poses, kTicks + 1) << "the state is never thinned";
+  // One second at 25 kB/s and the 16 KiB burst: at most about 8 scans of 5 kB, not 50.
+  EXPECT_GE(scans, 3);
+  EXPECT_LE(scans, 10);
+  EXPECT_GE(metric(hub_, "mobot_stream_frames_thinned_total"), 40U);
+}
+
+TEST_F(StreamLeaseTest, ABadByteRateCapIsRefusedAndSubscribesNothing) {
+  auto client = open(Role::kViewer);
+  for (const char* cap : {"-1", "1e9", "\"fast\"", "true"}) {
+    client->send_text(std::string(R"({"op":"subscribe","topics":["pose"],"max_kbps":)") + cap + "}");
+    const auto reply = next_with(*client, R"("op")");
+    ASSERT_TRUE(reply.has_value());
+    EXPECT_NE(reply->payload.find(R"("code":"invalid_field")"), std::string::npos)
+        << cap << ": " << reply->payload;
+  }
+}
+
 class StreamRoundTripTest : public StreamSessionTest {
  protected:
   StreamRoundTripTest() : StreamSessionTest(round_trip_every(50)) {}
