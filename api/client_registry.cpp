@@ -1,5 +1,7 @@
 #include "api/client_registry.h"
 
+#include "api/prometheus_text.h"
+
 #include <utility>
 
 namespace mobot::api {
@@ -78,6 +80,33 @@ std::shared_ptr<ClientRecord> ClientRegistry::find(std::uint64_t id) const {
   std::lock_guard lock(mutex_);
   const auto it = open_.find(id);
   return it == open_.end() ? nullptr : it->second;
+}
+
+std::string ClientRegistry::metrics_text() const {
+  std::string rtt;
+  std::string sent;
+  std::string dropped;
+  for (const ClientRecord::View& client : list()) {
+    // Streams only: HTTP connections come and go with each request.
+    if (!client.stream) continue;
+    const std::string labels = label("client", std::to_string(client.id)) + "," +
+                               label("label", client.caller ? client.caller->label : "") + "," +
+                               label("address", client.address);
+    if (client.rtt_ms) append_sample(rtt, "mobot_stream_client_rtt_seconds", *client.rtt_ms / 1e3,
+                                     labels);
+    append_sample(sent, "mobot_stream_client_bytes_sent_total",
+                  static_cast<double>(client.bytes_sent), labels);
+    append_sample(dropped, "mobot_stream_client_frames_dropped_total",
+                  static_cast<double>(client.dropped), labels);
+  }
+  std::string out;
+  out += "# HELP mobot_stream_client_rtt_seconds A stream's round trip, from its last timed ping.\n"
+         "# TYPE mobot_stream_client_rtt_seconds gauge\n" + rtt;
+  out += "# HELP mobot_stream_client_bytes_sent_total Bytes written to a stream.\n"
+         "# TYPE mobot_stream_client_bytes_sent_total counter\n" + sent;
+  out += "# HELP mobot_stream_client_frames_dropped_total Frames dropped for a stream that read "
+         "too slowly.\n# TYPE mobot_stream_client_frames_dropped_total counter\n" + dropped;
+  return out;
 }
 
 std::vector<ClientRecord::View> ClientRegistry::list() const {

@@ -83,6 +83,8 @@ class ClientRegistry {
   // The record of a connection, if it is still open.
   std::shared_ptr<ClientRecord> find(std::uint64_t id) const;
   std::vector<ClientRecord::View> list() const;
+  // Per open stream: its round trip, bytes sent and frames dropped (Prometheus text).
+  std::string metrics_text() const;
   std::size_t size() const;
 
  private:

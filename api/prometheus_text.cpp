@@ -22,6 +22,29 @@ void append_sample(std::string& out, std::string_view name, double value, std::s
   out += text;
 }
 
+std::string label(std::string_view name, std::string_view value) {
+  std::string out(name);
+  out += "=\"";
+  for (const char c : value) {
+    if (c == '\\' || c == '"') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else {
+      out += c;
+    }
+  }
+  out += '"';
+  return out;
+}
+
+std::string prometheus_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 void append_metric(std::string& out, std::string_view name, std::string_view type,
                    std::string_view help, double value, std::string_view labels) {
   out += "# HELP ";

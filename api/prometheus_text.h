@@ -11,5 +11,10 @@ void append_metric(std::string& out, std::string_view name, std::string_view typ
                    std::string_view help, double value, std::string_view labels = {});
 // A further sample of a metric already introduced by append_metric (another label set).
 void append_sample(std::string& out, std::string_view name, double value, std::string_view labels);
+// `name="value"` with the value escaped as the format requires (backslash, quote, newline): for
+// values that come from users (a token's label).
+std::string label(std::string_view name, std::string_view value);
+// A number as a label value (a histogram's `le`): shortest form, no trailing zeros.
+std::string prometheus_number(double value);
 
 }  // namespace mobot::api

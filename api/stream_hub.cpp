@@ -6,6 +6,7 @@
 #include <map>
 
 #include "api/goal_json.h"
+#include "api/prometheus_text.h"
 #include "api/wall_clock.h"
 #include "api/stream_session.h"
 #include "api/websocket_frames.h"
@@ -443,6 +444,38 @@ void StreamHub::close_inactive_tokens(
   }
 }
 
+void StreamHub::note_frame_age(TopicId topic, double age_s) {
+  AgeHistogram& histogram = frame_ages_[topic_index(topic)];
+  const double age = std::max(0.0, age_s);
+  for (std::size_t i = 0; i < kAgeBounds_s.size(); ++i) {
+    if (age <= kAgeBounds_s[i]) histogram.at_or_below[i].fetch_add(1, std::memory_order_relaxed);
+  }
+  histogram.count.fetch_add(1, std::memory_order_relaxed);
+  histogram.sum_us.fetch_add(static_cast<std::uint64_t>(age * 1e6), std::memory_order_relaxed);
+}
+
+void StreamHub::append_frame_ages(std::string& out) const {
+  out += "# HELP mobot_stream_frame_age_seconds How old a frame was, since it was published, when "
+         "a client's socket took it.\n";
+  out += "# TYPE mobot_stream_frame_age_seconds histogram\n";
+  for (const TopicSpec& spec : kTopics) {
+    const AgeHistogram& histogram = frame_ages_[topic_index(spec.id)];
+    const std::uint64_t count = histogram.count.load();
+    if (count == 0) continue;
+    const std::string topic = "topic=\"" + std::string(spec.name) + "\"";
+    for (std::size_t i = 0; i < kAgeBounds_s.size(); ++i) {
+      append_sample(out, "mobot_stream_frame_age_seconds_bucket",
+                    static_cast<double>(histogram.at_or_below[i].load()),
+                    topic + ",le=\"" + prometheus_number(kAgeBounds_s[i]) + "\"");
+    }
+    append_sample(out, "mobot_stream_frame_age_seconds_bucket", static_cast<double>(count),
+                  topic + ",le=\"+Inf\"");
+    append_sample(out, "mobot_stream_frame_age_seconds_sum",
+                  static_cast<double>(histogram.sum_us.load()) * 1e-6, topic);
+    append_sample(out, "mobot_stream_frame_age_seconds_count", static_cast<double>(count), topic);
+  }
+}
+
 void StreamHub::count_sent(std::uint64_t frames, std::uint64_t bytes) {
   frames_sent_.fetch_add(frames, std::memory_order_relaxed);
   bytes_sent_.fetch_add(bytes, std::memory_order_relaxed);
@@ -480,6 +513,8 @@ std::string StreamHub::metrics_text() const {
   out += "# HELP mobot_stream_frames_thinned_total Frames left out for a client's max_kbps.\n";
   out += "# TYPE mobot_stream_frames_thinned_total counter\n";
   out += "mobot_stream_frames_thinned_total " + std::to_string(frames_thinned_.load()) + "\n";
+  append_frame_ages(out);
+  out += clients_.metrics_text();
   return out;
 }
 

@@ -142,6 +142,8 @@ class StreamHub {
   void count_dropped() { frames_dropped_.fetch_add(1, std::memory_order_relaxed); }
   void count_rate_limited() { messages_rate_limited_.fetch_add(1, std::memory_order_relaxed); }
   void count_thinned() { frames_thinned_.fetch_add(1, std::memory_order_relaxed); }
+  // How old a frame of `topic` was (since its publication) when a client's socket took it.
+  void note_frame_age(TopicId topic, double age_s);
   std::string metrics_text() const;
 
  private:
@@ -200,6 +202,17 @@ class StreamHub {
   std::atomic<std::uint64_t> frames_dropped_{0};
   std::atomic<std::uint64_t> messages_rate_limited_{0};
   std::atomic<std::uint64_t> frames_thinned_{0};
+  // mobot_stream_frame_age_seconds: per topic, the count at or below each bound, the count of
+  // all, and the sum in microseconds.
+  static constexpr std::array<double, 11> kAgeBounds_s{0.001, 0.002, 0.005, 0.01, 0.02, 0.05,
+                                                       0.1,   0.2,   0.5,   1.0,  2.0};
+  struct AgeHistogram {
+    std::array<std::atomic<std::uint64_t>, kAgeBounds_s.size()> at_or_below{};
+    std::atomic<std::uint64_t> count{0};
+    std::atomic<std::uint64_t> sum_us{0};
+  };
+  std::array<AgeHistogram, kTopicCount> frame_ages_{};
+  void append_frame_ages(std::string& out) const;
   std::atomic<std::uint64_t> sessions_opened_{0};
   OperatorLock operator_lock_;
   ClientRegistry clients_;

@@ -111,12 +111,15 @@ void StreamSession::take_locked(TopicId topic, const SharedFrame& frame) {
   }
   subscription.last_sent_wall_us = frame.wall_us;
   auto& queue = topic_queues_[i];
+  auto& stamps = topic_stamps_[i];
   if (queue.size() >= hub_.options().max_frames_per_topic) {
     queue.erase(queue.begin());
+    stamps.erase(stamps.begin());
     hub_.count_dropped();
     if (ClientRecord* record = peer_.registration.record().get()) record->add_dropped();
   }
   queue.push_back(bytes);
+  stamps.push_back(frame.wall_us);
 }
 
 void StreamSession::close(std::uint16_t code, std::string reason) {
@@ -129,6 +132,7 @@ void StreamSession::queue_close(std::string frame) {
     if (closing_) return;
     // Nothing may follow the close frame, and queued data frames would otherwise go after it.
     for (auto& queue : topic_queues_) queue.clear();
+    for (auto& stamps : topic_stamps_) stamps.clear();
     control_queue_.push_back(std::make_shared<const std::string>(std::move(frame)));
     closing_ = true;
   }
@@ -388,6 +392,7 @@ void StreamSession::carry_out(const UnsubscribeRequest& request) {
     release_locked(*topic, subscription);
     subscription = {};
     topic_queues_[topic_index(*topic)].clear();
+    topic_stamps_[topic_index(*topic)].clear();
     removed.push_back(name);
   }
   note_topics();
@@ -407,8 +412,14 @@ void StreamSession::note_topics() {
   record->set_topics(std::move(names));
 }
 
-void StreamSession::count_sent(std::size_t frames, std::size_t bytes) {
+void StreamSession::count_sent(std::size_t frames, std::size_t bytes, bool complete) {
   hub_.count_sent(frames, bytes);
+  if (complete && !in_flight_stamps_.empty()) {
+    const std::int64_t now_us = wall_clock_us();
+    for (const auto& [topic, wall_us] : in_flight_stamps_) {
+      hub_.note_frame_age(topic, static_cast<double>(now_us - wall_us) * 1e-6);
+    }
+  }
   if (ClientRecord* record = peer_.registration.record().get()) record->add_sent(bytes);
 }
 
@@ -548,6 +559,9 @@ bool StreamSession::gather_locked() {
       auto& queue = topic_queues_[topic_index(spec.id)];
       for (auto& frame : queue) in_flight_.push_back(std::move(frame));
       queue.clear();
+      auto& stamps = topic_stamps_[topic_index(spec.id)];
+      for (const std::int64_t wall_us : stamps) in_flight_stamps_.emplace_back(spec.id, wall_us);
+      stamps.clear();
     }
   }
   buffers_.clear();
@@ -592,6 +606,7 @@ void StreamSession::write_locked(std::unique_lock<std::mutex>& lock) {
         error != boost::asio::error::try_again) {
       writing_ = false;
       in_flight_.clear();
+      in_flight_stamps_.clear();
       lock.unlock();
       shut_down();
       return;
@@ -604,9 +619,10 @@ void StreamSession::write_locked(std::unique_lock<std::mutex>& lock) {
                         [self = shared_from_this(), written] { self->write_rest(written); });
       return;
     }
-    count_sent(in_flight_.size(), written);
+    count_sent(in_flight_.size(), written, true);
     writing_ = false;
     in_flight_.clear();
+    in_flight_stamps_.clear();
   }
 }
 
@@ -627,11 +643,12 @@ void StreamSession::write_rest(std::size_t written) {
 }
 
 void StreamSession::on_written(boost::system::error_code error, std::size_t bytes) {
-  if (!error) count_sent(in_flight_.size(), bytes);
+  if (!error) count_sent(in_flight_.size(), bytes, true);
   {
     std::lock_guard lock(mutex_);
     writing_ = false;
     in_flight_.clear();
+    in_flight_stamps_.clear();
   }
   if (error) {
     shut_down();
@@ -647,6 +664,7 @@ void StreamSession::shut_down() {
     closed_ = true;
     closing_ = true;
     for (auto& queue : topic_queues_) queue.clear();
+    for (auto& stamps : topic_stamps_) stamps.clear();
     control_queue_.clear();
   }
   hub_.detach(this);

@@ -100,7 +100,8 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   Claimant claimant() const;
   // The subscribed topics, for GET /api/v1/clients.
   void note_topics();
-  void count_sent(std::size_t frames, std::size_t bytes);
+  // A write is done: `bytes` of `frames` went, all of in_flight_ when `complete`.
+  void count_sent(std::size_t frames, std::size_t bytes, bool complete);
   void reply(const nlohmann::json& message);
   void reply_error(const std::string& code, const std::string& message);
   void queue_control(std::shared_ptr<const std::string> frame);
@@ -142,10 +143,14 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   std::array<Subscription, kTopicCount> subscriptions_{};
   // A few frames each (max_frames_per_topic): vectors keep their storage from tick to tick.
   std::array<std::vector<std::shared_ptr<const std::string>>, kTopicCount> topic_queues_{};
+  // When each queued frame was published (wall_us), beside topic_queues_: how old it is when the
+  // socket takes it (mobot_stream_frame_age_seconds).
+  std::array<std::vector<std::int64_t>, kTopicCount> topic_stamps_{};
   std::deque<std::shared_ptr<const std::string>> control_queue_;
   ByteBudget budget_;  // the client's max_kbps
   // Owned by whoever set writing_: the frames being written and their buffers.
   std::vector<std::shared_ptr<const std::string>> in_flight_;
+  std::vector<std::pair<TopicId, std::int64_t>> in_flight_stamps_;  // the topic frames' wall_us
   std::vector<boost::asio::const_buffer> buffers_;
   std::size_t in_flight_bytes_ = 0;
   bool writing_ = false;         // a write (synchronous or asynchronous) owns in_flight_

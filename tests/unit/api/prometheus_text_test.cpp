@@ -29,3 +29,21 @@ TEST(PrometheusText, SmallGaugesKeepTheirDigits) {
 
 }  // namespace
 }  // namespace mobot::api
+
+namespace mobot::api {
+namespace {
+
+TEST(PrometheusLabel, UserTextIsEscaped) {
+  EXPECT_EQ(label("label", "alice"), R"(label="alice")");
+  EXPECT_EQ(label("label", "a\"b\\c\nd"), R"(label="a\"b\\c\nd")");
+  EXPECT_EQ(label("label", ""), R"(label="")");
+}
+
+TEST(PrometheusLabel, HistogramBoundsInTheirShortestForm) {
+  EXPECT_EQ(prometheus_number(0.001), "0.001");
+  EXPECT_EQ(prometheus_number(0.5), "0.5");
+  EXPECT_EQ(prometheus_number(2.0), "2");
+}
+
+}  // namespace
+}  // namespace mobot::api

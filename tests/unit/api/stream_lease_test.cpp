@@ -295,6 +295,28 @@ TEST_F(StreamLeaseTest, ABadByteRateCapIsRefusedAndSubscribesNothing) {
   }
 }
 
+TEST_F(StreamLeaseTest, TheMetricsSayHowOldEachTopicsFramesWereAndWhatEachStreamGot) {
+  auto client = open(Role::kViewer);
+  client->send_text(R"({"op":"subscribe","topics":["pose"]})");
+  ASSERT_TRUE(next_with(*client, R"("op":"subscribed")").has_value());
+  for (int tick = 1; tick <= 5; ++tick) {
+    hub_.publish_pose(tick * 0.02, {0.0, 0.0, 0.0}, {}, {});
+    hub_.flush();
+    ASSERT_TRUE(next_with(*client, R"("topic":"pose")").has_value());
+  }
+  const std::string text = hub_.metrics_text();
+  EXPECT_NE(text.find("mobot_stream_frame_age_seconds_count{topic=\"pose\"} 5"),
+            std::string::npos)
+      << text;
+  // On loopback every frame is taken within a second of its publication.
+  EXPECT_NE(text.find("mobot_stream_frame_age_seconds_bucket{topic=\"pose\",le=\"1\"} 5"),
+            std::string::npos);
+  EXPECT_EQ(text.find("mobot_stream_frame_age_seconds_count{topic=\"scan\"}"), std::string::npos)
+      << "a topic nobody was sent has no histogram";
+  EXPECT_NE(text.find("mobot_stream_client_bytes_sent_total{client=\""), std::string::npos);
+  EXPECT_NE(text.find("label=\"test\",address=\"127.0.0.1:1\"}"), std::string::npos);
+}
+
 class StreamRoundTripTest : public StreamSessionTest {
  protected:
   StreamRoundTripTest() : StreamSessionTest(round_trip_every(50)) {}

@@ -204,6 +204,9 @@ class StreamSessionTest : public ::testing::Test {
     // The fake's tokens: viewer is 1, operator 2, admin 3 (fake_ports.h); each client its own id.
     const Caller caller{static_cast<std::int64_t>(role) + 1, role, "test"};
     auto registration = hub_.clients().open("127.0.0.1:1", 0.0);
+    // As the HTTP session does on the upgrade.
+    registration->became_stream();
+    registration->identify(caller);
     const ClientContext connection{registration->id(), "127.0.0.1:1"};
     std::make_shared<StreamSession>(std::move(server_side), hub_, robot_.ports(simulated_),
                                     StreamPeer{caller, connection, std::move(registration)},
