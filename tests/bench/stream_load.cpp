@@ -328,6 +328,105 @@ void sleep_s(double seconds) {
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
 }
 
+// One blocking HTTP/1.1 request on a keep-alive socket: the status and the body, or nullopt when
+// the connection failed.
+std::optional<std::pair<int, std::string>> http_get(int fd, const std::string& request) {
+  if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) !=
+      static_cast<ssize_t>(request.size())) {
+    return std::nullopt;
+  }
+  std::string reply;
+  std::array<char, 8192> chunk{};
+  std::size_t header_end = std::string::npos;
+  while ((header_end = reply.find("\r\n\r\n")) == std::string::npos) {
+    const ssize_t got = ::recv(fd, chunk.data(), chunk.size(), 0);
+    if (got <= 0) return std::nullopt;
+    reply.append(chunk.data(), static_cast<std::size_t>(got));
+  }
+  const int status = reply.size() > 12 ? std::atoi(reply.c_str() + 9) : 0;
+  std::size_t length = 0;
+  const auto field = reply.find("Content-Length: ");
+  if (field != std::string::npos && field < header_end) length = std::stoul(reply.substr(field + 16));
+  while (reply.size() < header_end + 4 + length) {
+    const ssize_t got = ::recv(fd, chunk.data(), chunk.size(), 0);
+    if (got <= 0) return std::nullopt;
+    reply.append(chunk.data(), static_cast<std::size_t>(got));
+  }
+  return std::make_pair(status, reply.substr(header_end + 4, length));
+}
+
+// A REST client polling GET /api/v1/robot at `rate_hz` on one keep-alive connection, as a
+// dashboard or another service does: how many requests it made, how many failed (not 200, or the
+// connection lost), and their latencies while measuring.
+class RestPoller {
+ public:
+  RestPoller(int port, const std::string& token, double rate_hz, const std::atomic<bool>& measuring,
+             const std::atomic<bool>& stopping)
+      : port_(port),
+        request_("GET /api/v1/robot HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " + token +
+                 "\r\n\r\n"),
+        period_(1.0 / rate_hz),
+        measuring_(measuring),
+        stopping_(stopping) {}
+
+  void start() { thread_ = std::thread([this] { run(); }); }
+  void join() { thread_.join(); }
+  std::uint64_t requests() const { return requests_; }
+  std::uint64_t errors() const { return errors_; }
+  std::vector<std::int32_t>& latency_us() { return latency_us_; }
+
+ private:
+  void run() {
+    int fd = connect_loopback(port_);
+    auto next = std::chrono::steady_clock::now();
+    while (!stopping_) {
+      next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period_);
+      std::this_thread::sleep_until(next);
+      if (fd < 0) fd = connect_loopback(port_);
+      const bool measured = measuring_;
+      const auto sent = std::chrono::steady_clock::now();
+      const auto reply = fd >= 0 ? http_get(fd, request_) : std::nullopt;
+      if (!measured) continue;
+      ++requests_;
+      if (!reply || reply->first != 200) {
+        ++errors_;
+        if (!reply && fd >= 0) {
+          ::close(fd);
+          fd = -1;
+        }
+        continue;
+      }
+      latency_us_.push_back(static_cast<std::int32_t>(
+          std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() -
+                                                                sent)
+              .count()));
+    }
+    if (fd >= 0) ::close(fd);
+  }
+
+  int port_;
+  std::string request_;
+  std::chrono::duration<double> period_;
+  const std::atomic<bool>& measuring_;
+  const std::atomic<bool>& stopping_;
+  std::uint64_t requests_ = 0;
+  std::uint64_t errors_ = 0;
+  std::vector<std::int32_t> latency_us_;
+  std::thread thread_;
+};
+
+// A counter of the server's /metrics (-1 when it cannot be read).
+double server_metric(int port, const std::string& token, const std::string& name) {
+  const int fd = connect_loopback(port);
+  if (fd < 0) return -1.0;
+  const auto reply = http_get(
+      fd, "GET /metrics HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " + token + "\r\n\r\n");
+  ::close(fd);
+  if (!reply || reply->first != 200) return -1.0;
+  const auto at = reply->second.find("\n" + name + " ");
+  return at == std::string::npos ? -1.0 : std::stod(reply->second.substr(at + name.size() + 2));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -342,6 +441,8 @@ int main(int argc, char** argv) {
   std::string topics = "pose,scan";
   std::string encoding = "binary";
   int camera_quality = 0;
+  int rest_clients = 0;
+  double rest_hz = 20.0;
   cli.add_option("--port", port)->required();
   cli.add_option("--token", token)->required();
   cli.add_option("--clients", clients)->check(CLI::Range(1, 20000));
@@ -356,6 +457,11 @@ int main(int argc, char** argv) {
   cli.add_option("--camera-quality", camera_quality,
                  "the JPEG quality cap of the camera frames (camera_quality), 0: the camera's")
       ->check(CLI::Range(0, 100));
+  cli.add_option("--rest-clients", rest_clients,
+                 "REST clients polling GET /api/v1/robot meanwhile, each on its own connection")
+      ->check(CLI::Range(0, 5000));
+  cli.add_option("--rest-hz", rest_hz, "requests a second of each REST client")
+      ->check(CLI::Range(0.1, 200.0));
   CLI11_PARSE(cli, argc, argv);
 
   std::string topic_list;
@@ -406,7 +512,13 @@ int main(int argc, char** argv) {
     ++connected;
   }
   for (auto& reader : readers) reader->start();
+  std::vector<std::unique_ptr<RestPoller>> pollers;
+  for (int i = 0; i < rest_clients; ++i) {
+    pollers.push_back(std::make_unique<RestPoller>(port, token, rest_hz, measuring, stopping));
+    pollers.back()->start();
+  }
   sleep_s(warmup_s);
+  const double late_ticks_before = server_metric(port, token, "mobot_control_late_ticks_total");
 
   const double server_cpu_before = pid > 0 ? process_cpu_s(pid) : 0.0;
   const double own_cpu_before = process_cpu_s(static_cast<int>(getpid()));
@@ -418,8 +530,22 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double server_cpu_s = pid > 0 ? process_cpu_s(pid) - server_cpu_before : 0.0;
   const double own_cpu_s = process_cpu_s(static_cast<int>(getpid())) - own_cpu_before;
+  const double late_ticks = server_metric(port, token, "mobot_control_late_ticks_total") -
+                            late_ticks_before;
+  const double lateness_p99_s =
+      server_metric(port, token, "mobot_control_tick_lateness_seconds_p99");
   stopping = true;
   for (auto& reader : readers) reader->join();
+  std::uint64_t rest_requests = 0;
+  std::uint64_t rest_errors = 0;
+  std::vector<std::int32_t> rest_latency_us;
+  for (auto& poller : pollers) {
+    poller->join();
+    rest_requests += poller->requests();
+    rest_errors += poller->errors();
+    rest_latency_us.insert(rest_latency_us.end(), poller->latency_us().begin(),
+                           poller->latency_us().end());
+  }
 
   std::array<TopicStats, kTopicSlots> totals;
   for (auto& reader : readers) {
@@ -454,5 +580,13 @@ int main(int argc, char** argv) {
     std::cout << "server_cpu_pct_of_one_core " << 100.0 * server_cpu_s / elapsed_s << "\n";
   }
   std::cout << "load_tool_cpu_pct_of_one_core " << 100.0 * own_cpu_s / elapsed_s << "\n";
-  return ok ? 0 : 1;
+  if (rest_clients > 0) {
+    std::cout << "rest clients " << rest_clients << " requests " << rest_requests << " errors "
+              << rest_errors << " latency_ms p50 " << percentile(rest_latency_us, 0.50) << " p99 "
+              << percentile(rest_latency_us, 0.99) << " max " << percentile(rest_latency_us, 1.0)
+              << "\n";
+  }
+  std::cout << "control late_ticks " << late_ticks << " tick_lateness_p99_ms "
+            << lateness_p99_s * 1e3 << "\n";
+  return ok && rest_errors == 0 ? 0 : 1;
 }

@@ -178,7 +178,11 @@ export async function operatorSteps(t) {
       if (refused.status !== 409 || refused.code !== 'operator_busy') throw new Error(`bob's teleop after the take-over -> ${refused.status} ${refused.text.slice(0, 200)}`);
       if (await page.isVisible('[data-testid=teleop-locked]')) throw new Error('the teleop card still says it is refused');
       // The page drives again: the control loop applies its commands (their echoes come back), and
-      // the robot moves or turns (an arc: the mapping drive may have left it against a wall ahead).
+      // the robot moves or turns. The earlier steps may have left it against a wall, where the
+      // safety layer rightly holds it (once: 6 mm and 0.07 rad with 12 echoes): it starts again
+      // from the world's start pose, in the open.
+      const reset = await t.rest(t.base(), t.token, 'POST', '/api/v1/sim/reset', {});
+      if (reset.ok !== true) throw new Error(`sim reset -> ${JSON.stringify(reset)}`);
       const before = await truth();
       const acksBefore = (await page.evaluate(() => window.__mobot.teleop)).acks;
       await page.locator('[data-testid=map-canvas]').hover();
