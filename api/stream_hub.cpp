@@ -447,10 +447,9 @@ void StreamHub::close_inactive_tokens(
 void StreamHub::note_frame_age(TopicId topic, double age_s) {
   AgeHistogram& histogram = frame_ages_[topic_index(topic)];
   const double age = std::max(0.0, age_s);
-  for (std::size_t i = 0; i < kAgeBounds_s.size(); ++i) {
-    if (age <= kAgeBounds_s[i]) histogram.at_or_below[i].fetch_add(1, std::memory_order_relaxed);
-  }
-  histogram.count.fetch_add(1, std::memory_order_relaxed);
+  const auto bin = static_cast<std::size_t>(
+      std::lower_bound(kAgeBounds_s.begin(), kAgeBounds_s.end(), age) - kAgeBounds_s.begin());
+  histogram.in_bin[bin].fetch_add(1, std::memory_order_relaxed);
   histogram.sum_us.fetch_add(static_cast<std::uint64_t>(age * 1e6), std::memory_order_relaxed);
 }
 
@@ -460,12 +459,16 @@ void StreamHub::append_frame_ages(std::string& out) const {
   out += "# TYPE mobot_stream_frame_age_seconds histogram\n";
   for (const TopicSpec& spec : kTopics) {
     const AgeHistogram& histogram = frame_ages_[topic_index(spec.id)];
-    const std::uint64_t count = histogram.count.load();
+    std::array<std::uint64_t, kAgeBounds_s.size() + 1> bins{};
+    for (std::size_t i = 0; i < bins.size(); ++i) bins[i] = histogram.in_bin[i].load();
+    std::uint64_t count = 0;
+    for (const std::uint64_t in_bin : bins) count += in_bin;
     if (count == 0) continue;
     const std::string topic = "topic=\"" + std::string(spec.name) + "\"";
+    std::uint64_t at_or_below = 0;
     for (std::size_t i = 0; i < kAgeBounds_s.size(); ++i) {
-      append_sample(out, "mobot_stream_frame_age_seconds_bucket",
-                    static_cast<double>(histogram.at_or_below[i].load()),
+      at_or_below += bins[i];
+      append_sample(out, "mobot_stream_frame_age_seconds_bucket", static_cast<double>(at_or_below),
                     topic + ",le=\"" + prometheus_number(kAgeBounds_s[i]) + "\"");
     }
     append_sample(out, "mobot_stream_frame_age_seconds_bucket", static_cast<double>(count),

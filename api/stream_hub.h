@@ -202,13 +202,13 @@ class StreamHub {
   std::atomic<std::uint64_t> frames_dropped_{0};
   std::atomic<std::uint64_t> messages_rate_limited_{0};
   std::atomic<std::uint64_t> frames_thinned_{0};
-  // mobot_stream_frame_age_seconds: per topic, the count at or below each bound, the count of
-  // all, and the sum in microseconds.
+  // mobot_stream_frame_age_seconds: per topic, the count in each bin (the last one open: above
+  // every bound) and the sum in microseconds. Two atomic additions a frame: the io threads do this
+  // for every frame of every client; the cumulative buckets are summed when /metrics is read.
   static constexpr std::array<double, 11> kAgeBounds_s{0.001, 0.002, 0.005, 0.01, 0.02, 0.05,
                                                        0.1,   0.2,   0.5,   1.0,  2.0};
   struct AgeHistogram {
-    std::array<std::atomic<std::uint64_t>, kAgeBounds_s.size()> at_or_below{};
-    std::atomic<std::uint64_t> count{0};
+    std::array<std::atomic<std::uint64_t>, kAgeBounds_s.size() + 1> in_bin{};
     std::atomic<std::uint64_t> sum_us{0};
   };
   std::array<AgeHistogram, kTopicCount> frame_ages_{};

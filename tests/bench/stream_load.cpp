@@ -84,9 +84,9 @@ std::string_view json_topic(std::string_view text) {
   return text.substr(start, end - start);
 }
 
-std::string masked_text_frame(const std::string& payload) {
+std::string masked_frame(unsigned opcode, std::string_view payload) {
   std::string frame;
-  frame.push_back(static_cast<char>(0x81));
+  frame.push_back(static_cast<char>(0x80 | opcode));
   if (payload.size() < 126) {
     frame.push_back(static_cast<char>(0x80 | payload.size()));
   } else {
@@ -98,6 +98,8 @@ std::string masked_text_frame(const std::string& payload) {
   frame += payload;
   return frame;
 }
+
+std::string masked_text_frame(const std::string& payload) { return masked_frame(0x1, payload); }
 
 bool send_all(int fd, std::string_view bytes) {
   while (!bytes.empty()) {
@@ -120,6 +122,9 @@ class Client {
   }
 
   int fd() const { return fd_; }
+  // A small frame of the client's (a pong), written whole or not at all: the socket's send buffer
+  // always has room for a few bytes unless the server stopped reading, and then nothing matters.
+  void send(const std::string& frame) { ::send(fd_, frame.data(), frame.size(), MSG_NOSIGNAL); }
 
   // Blocking HTTP upgrade and subscription, before the socket joins a reader's epoll.
   std::optional<std::string> handshake(const std::string& upgrade, const std::string& subscribe) {
@@ -244,6 +249,12 @@ class Reader {
   }
 
   void on_frame(Client& client, int opcode, std::string_view payload, std::int64_t now_us) {
+    if (opcode == 0x9) {
+      // RFC 6455 5.5.2: the server's pings (its round trip, its liveness check) get their pong,
+      // or it closes a client that seems gone after 45 s.
+      client.send(masked_frame(0xA, payload));
+      return;
+    }
     std::size_t slot = 0;
     std::int64_t seq = -1;
     std::int64_t wall_us = -1;
