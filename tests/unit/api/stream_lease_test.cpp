@@ -304,7 +304,15 @@ TEST_F(StreamLeaseTest, TheMetricsSayHowOldEachTopicsFramesWereAndWhatEachStream
     hub_.flush();
     ASSERT_TRUE(next_with(*client, R"("topic":"pose")").has_value());
   }
-  const std::string text = hub_.metrics_text();
+  // The age is noted once write_some has returned on the server's thread, which may be just
+  // after the client has read the frame.
+  std::string text;
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  do {
+    text = hub_.metrics_text();
+  } while (text.find("mobot_stream_frame_age_seconds_count{topic=\"pose\"} 5") ==
+               std::string::npos &&
+           std::chrono::steady_clock::now() < deadline);
   EXPECT_NE(text.find("mobot_stream_frame_age_seconds_count{topic=\"pose\"} 5"),
             std::string::npos)
       << text;
