@@ -25,24 +25,20 @@ std::int64_t TokenStore::add(const std::string& hash, Role role, const std::stri
 }
 
 std::optional<TokenRecord> TokenStore::find(const std::string& hash) const {
-  return lookups_.read([&](const Connection& connection) -> std::optional<TokenRecord> {
-    Statement row = connection.prepare(
-        "SELECT id, role, label, created_unix_s, expires_at FROM tokens "
-        "WHERE hash = ? AND revoked = 0");
-    row.bind(1, hash);
-    if (!row.step()) return std::nullopt;
-    return TokenRecord{row.column_int64(0),  static_cast<Role>(row.column_int64(1)),
-                       row.column_text(2),   row.column_double(3),
-                       false,                optional_int64(row, 4)};
-  });
+  return find_live("hash = ?", [&](Statement& row) { row.bind(1, hash); });
 }
 
 std::optional<TokenRecord> TokenStore::find_by_id(std::int64_t id) const {
+  return find_live("id = ?", [&](Statement& row) { row.bind(1, id); });
+}
+
+std::optional<TokenRecord> TokenStore::find_live(
+    const char* condition, const std::function<void(Statement&)>& bind) const {
   return lookups_.read([&](const Connection& connection) -> std::optional<TokenRecord> {
     Statement row = connection.prepare(
-        "SELECT id, role, label, created_unix_s, expires_at FROM tokens "
-        "WHERE id = ? AND revoked = 0");
-    row.bind(1, id);
+        std::string("SELECT id, role, label, created_unix_s, expires_at FROM tokens WHERE ") +
+        condition + " AND revoked = 0");
+    bind(row);
     if (!row.step()) return std::nullopt;
     return TokenRecord{row.column_int64(0),  static_cast<Role>(row.column_int64(1)),
                        row.column_text(2),   row.column_double(3),

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,10 @@ class TokenStore {
   int count_admins(double now_unix_s) const;
 
  private:
+  // The live token matching `condition` (one placeholder, bound by `bind`), on `lookups_`.
+  std::optional<TokenRecord> find_live(const char* condition,
+                                       const std::function<void(Statement&)>& bind) const;
+
   Database& database_;
   Database& lookups_;
 };
