@@ -9,8 +9,6 @@
 namespace mobot::api {
 namespace {
 
-constexpr double kMaxCoordinate_m = 1e6;
-
 [[noreturn]] void invalid(const char* key, const std::string& expectation) {
   throw ApiError(400, "invalid_field", std::string("'") + key + "' " + expectation);
 }
@@ -63,8 +61,8 @@ std::optional<int> optional_integer(const nlohmann::json& object, const char* ke
                                     int max) {
   if (!object.contains(key) || object[key].is_null()) return std::nullopt;
   const auto& value = object[key];
-  const auto within = "must be a whole number within [" + std::to_string(min) + ", " +
-                      std::to_string(max) + "]";
+  const auto within =
+      "must be a whole number within [" + std::to_string(min) + ", " + std::to_string(max) + "]";
   if (!value.is_number_integer()) invalid(key, within);
   const auto number = value.get<std::int64_t>();
   if (number < min || number > max) invalid(key, within);

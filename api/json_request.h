@@ -16,6 +16,9 @@ namespace mobot::api {
 
 nlohmann::json parse_json_body(std::string_view body);
 
+// The largest |x| or |y| a request may name: far beyond any map, near enough for a double's cm.
+inline constexpr double kMaxCoordinate_m = 1e6;
+
 double require_number(const nlohmann::json& object, const char* key, double min, double max);
 std::optional<double> optional_number(const nlohmann::json& object, const char* key, double min,
                                       double max);

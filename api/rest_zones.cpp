@@ -9,7 +9,6 @@ namespace {
 
 constexpr std::size_t kMinVertices = 3;
 constexpr std::size_t kMaxVertices = 256;
-constexpr double kMaxCoordinate_m = 1e6;
 
 [[noreturn]] void invalid_polygon(const std::string& why) {
   throw ApiError(400, "invalid_polygon", why);

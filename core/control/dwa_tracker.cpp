@@ -7,14 +7,13 @@
 
 #include "core/control/stop_and_rotate.h"
 #include "core/geometry/polyline.h"
+#include "core/numeric/finite.h"
+#include "core/numeric/step_toward.h"
 
 namespace mobot::control {
 namespace {
 
 using planning::PlanningGrid;
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 // Costs of map-frame points on the local costmap, with the grid's inverse transform computed once.
 // Points off the costmap (or no costmap) cost nothing: nothing is known to block them.
@@ -100,23 +99,18 @@ void roll_out(const geometry::Pose2D& start, double v, double w, int steps, doub
   }
 }
 
-// Moves `value` toward `target` by at most `step`.
-double approach(double value, double target, double step) {
-  return value + std::clamp(target - value, -step, step);
-}
-
 // roll_out for Trajectory Rollout: from the velocity `from`, each step first moves the velocity
 // toward `to` by the accelerations' reach in dt, then follows that step's arc.
 template <class Visit>
 void roll_out_accelerating(const geometry::Pose2D& start, const msgs::Twist& from,
-                           const msgs::Twist& to, const DynamicLimits& limits, int steps,
-                           double dt, Visit&& visit) {
+                           const msgs::Twist& to, const DynamicLimits& limits, int steps, double dt,
+                           Visit&& visit) {
   geometry::Pose2D pose = start;
   double v = from.linear_mps;
   double w = from.angular_radps;
   for (int i = 1; i <= steps; ++i) {
-    v = approach(v, to.linear_mps, limits.linear_accel_mps2 * dt);
-    w = approach(w, to.angular_radps, limits.angular_accel_radps2 * dt);
+    v = step_toward(v, to.linear_mps, limits.linear_accel_mps2 * dt);
+    w = step_toward(w, to.angular_radps, limits.angular_accel_radps2 * dt);
     const double turn = w * dt;
     if (std::abs(w) < 1e-9) {
       pose.x += v * dt * std::cos(pose.theta);
@@ -164,14 +158,14 @@ struct DwaTracker::Scoring {
 
 DwaTracker::DwaTracker(const DwaOptions& options) : options_(options) {
   const DwaOptions& o = options;
-  if (!valid(o.limits) || !positive(o.sim_time_s) || !positive(o.sim_granularity_m) ||
-      !positive(o.angular_sim_granularity_rad) || o.linear_samples < 1 || o.linear_samples > 100 ||
-      o.angular_samples < 1 || o.angular_samples > 100 || !non_negative(o.path_distance_bias) ||
-      !non_negative(o.goal_distance_bias) || !non_negative(o.occdist_scale) ||
-      !non_negative(o.forward_point_distance_m) || !positive(o.local_goal_distance_m) ||
-      !positive(o.projection_window_m) || !non_negative(o.min_improvement) ||
-      !non_negative(o.goal_tolerance_m) || !non_negative(o.goal_tolerance_rad) ||
-      !non_negative(o.approach_radius_m)) {
+  if (!valid(o.limits) || !finite_positive(o.sim_time_s) || !finite_positive(o.sim_granularity_m) ||
+      !finite_positive(o.angular_sim_granularity_rad) || o.linear_samples < 1 ||
+      o.linear_samples > 100 || o.angular_samples < 1 || o.angular_samples > 100 ||
+      !finite_non_negative(o.path_distance_bias) || !finite_non_negative(o.goal_distance_bias) ||
+      !finite_non_negative(o.occdist_scale) || !finite_non_negative(o.forward_point_distance_m) ||
+      !finite_positive(o.local_goal_distance_m) || !finite_positive(o.projection_window_m) ||
+      !finite_non_negative(o.min_improvement) || !finite_non_negative(o.goal_tolerance_m) ||
+      !finite_non_negative(o.goal_tolerance_rad) || !finite_non_negative(o.approach_radius_m)) {
     throw std::invalid_argument("DWA tracker options out of range");
   }
 }
@@ -296,11 +290,10 @@ msgs::Twist DwaTracker::track(const geometry::Pose2D& pose, const msgs::Twist& v
     for (const double v : samples(window.min_linear_mps, window.max_linear_mps, o.linear_samples)) {
       for (const double w :
            samples(window.min_angular_radps, window.max_angular_radps, o.angular_samples)) {
-        const double fastest_v = accelerate ? std::max(std::abs(v), std::abs(from.linear_mps))
-                                            : std::abs(v);
-        const double fastest_w = accelerate
-                                     ? std::max(std::abs(w), std::abs(from.angular_radps))
-                                     : std::abs(w);
+        const double fastest_v =
+            accelerate ? std::max(std::abs(v), std::abs(from.linear_mps)) : std::abs(v);
+        const double fastest_w =
+            accelerate ? std::max(std::abs(w), std::abs(from.angular_radps)) : std::abs(w);
         const int steps = static_cast<int>(
             std::ceil(std::max(fastest_v * o.sim_time_s / o.sim_granularity_m,
                                fastest_w * o.sim_time_s / o.angular_sim_granularity_rad)));

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
 namespace {
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 // [value - step, value + step] within [lo, hi]; a value outside gives the nearest bound.
 void window_around(double value, double step, double lo, double hi, double& out_lo,
@@ -18,9 +18,10 @@ void window_around(double value, double step, double lo, double hi, double& out_
 }  // namespace
 
 bool valid(const DynamicLimits& limits) {
-  return positive(limits.max_linear_mps) && positive(limits.max_angular_radps) &&
-         positive(limits.linear_accel_mps2) && positive(limits.angular_accel_radps2) &&
-         positive(limits.control_period_s) && std::isfinite(limits.min_in_place_angular_radps) &&
+  return finite_positive(limits.max_linear_mps) && finite_positive(limits.max_angular_radps) &&
+         finite_positive(limits.linear_accel_mps2) &&
+         finite_positive(limits.angular_accel_radps2) && finite_positive(limits.control_period_s) &&
+         std::isfinite(limits.min_in_place_angular_radps) &&
          limits.min_in_place_angular_radps >= 0.0 &&
          limits.min_in_place_angular_radps <= limits.max_angular_radps;
 }

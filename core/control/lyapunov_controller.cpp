@@ -5,6 +5,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
 namespace {
 
@@ -14,8 +16,6 @@ double sinc(double x) {
   // sin(x)/x -> 1 at 0; the series keeps full precision where the quotient would not.
   return std::abs(x) < 1e-4 ? 1.0 - x * x / 6.0 : std::sin(x) / x;
 }
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 }  // namespace
 
@@ -35,8 +35,9 @@ PolarError polar_error(const geometry::Pose2D& pose, const geometry::Pose2D& goa
 
 LyapunovController::LyapunovController(const LyapunovOptions& options) : options_(options) {
   const LyapunovGains& g = options.gains;
-  if (!positive(g.k_v) || !positive(g.k_alpha) || !positive(g.k_theta) || !positive(g.h) ||
-      !positive(options.max_linear_mps) || !positive(options.max_angular_radps)) {
+  if (!finite_positive(g.k_v) || !finite_positive(g.k_alpha) || !finite_positive(g.k_theta) ||
+      !finite_positive(g.h) || !finite_positive(options.max_linear_mps) ||
+      !finite_positive(options.max_angular_radps)) {
     throw std::invalid_argument("Lyapunov gains and limits must be positive and finite");
   }
   if (!std::isfinite(options.eps_rho_m) || options.eps_rho_m < 0.0 ||

@@ -3,19 +3,17 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
-namespace {
-
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
-
-}  // namespace
 
 NavigationSupervisor::NavigationSupervisor(const NavigationSupervisorOptions& options,
                                            const PotentialFieldOptions& avoidance)
     : options_(options), detector_(avoidance) {
-  if (!non_negative(options.blocked_timeout_s) || !non_negative(options.min_progress_m) ||
-      !non_negative(options.clear_hold_s) || !non_negative(options.rejoin_lookahead_m) ||
-      !(options.projection_window_m > 0.0) || !std::isfinite(options.projection_window_m)) {
+  if (!finite_non_negative(options.blocked_timeout_s) ||
+      !finite_non_negative(options.min_progress_m) || !finite_non_negative(options.clear_hold_s) ||
+      !finite_non_negative(options.rejoin_lookahead_m) || !(options.projection_window_m > 0.0) ||
+      !std::isfinite(options.projection_window_m)) {
     throw std::invalid_argument("navigation supervisor options out of range");
   }
 }

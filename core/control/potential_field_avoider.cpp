@@ -4,19 +4,16 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
-namespace {
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
-
-}  // namespace
 
 PotentialFieldAvoider::PotentialFieldAvoider(const PotentialFieldOptions& options)
     : options_(options) {
-  if (!positive(options.influence_distance_m) || !positive(options.k_att) ||
-      !positive(options.k_rep) || !positive(options.sector_half_angle_rad) ||
-      !std::isfinite(options.steer_offset_rad) || !positive(options.max_linear_mps) ||
-      !positive(options.max_angular_radps) || !(options.side_hysteresis >= 0.0)) {
+  if (!finite_positive(options.influence_distance_m) || !finite_positive(options.k_att) ||
+      !finite_positive(options.k_rep) || !finite_positive(options.sector_half_angle_rad) ||
+      !std::isfinite(options.steer_offset_rad) || !finite_positive(options.max_linear_mps) ||
+      !finite_positive(options.max_angular_radps) || !(options.side_hysteresis >= 0.0)) {
     throw std::invalid_argument("potential field options out of range");
   }
 }

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
 namespace {
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 // Once backing up, it goes on until the goal is this far outside the turning circle, so the
 // forward turn that follows does not bring it straight back in.
@@ -17,13 +17,13 @@ constexpr double kReverseMargin_m = 0.3;
 
 PurePursuitTracker::PurePursuitTracker(const PurePursuitOptions& options) : options_(options) {
   const PurePursuitOptions& o = options_;
-  if (!positive(o.lookahead_min_m) || !(o.lookahead_max_m >= o.lookahead_min_m) ||
-      !(o.lookahead_time_s >= 0.0) || !positive(o.max_linear_mps) ||
-      !positive(o.max_angular_radps) || !(o.min_turning_radius_m >= 0.0) ||
-      !positive(o.approach_decel_mps2) || !(o.min_linear_mps >= 0.0) ||
-      !(o.min_linear_mps <= o.max_linear_mps) || !positive(o.goal_tolerance_m) ||
-      !positive(o.goal_tolerance_rad) || !positive(o.align_gain) ||
-      !positive(o.projection_window_m)) {
+  if (!finite_positive(o.lookahead_min_m) || !(o.lookahead_max_m >= o.lookahead_min_m) ||
+      !(o.lookahead_time_s >= 0.0) || !finite_positive(o.max_linear_mps) ||
+      !finite_positive(o.max_angular_radps) || !(o.min_turning_radius_m >= 0.0) ||
+      !finite_positive(o.approach_decel_mps2) || !(o.min_linear_mps >= 0.0) ||
+      !(o.min_linear_mps <= o.max_linear_mps) || !finite_positive(o.goal_tolerance_m) ||
+      !finite_positive(o.goal_tolerance_rad) || !finite_positive(o.align_gain) ||
+      !finite_positive(o.projection_window_m)) {
     throw std::invalid_argument(
         "pure pursuit: look-ahead min > 0 and <= max, speeds, tolerances and gains > 0, minimum "
         "speed within [0, max]");
@@ -75,9 +75,8 @@ msgs::Twist PurePursuitTracker::compute(const geometry::Pose2D& pose, const msgs
 }
 
 msgs::Twist PurePursuitTracker::pursue(const geometry::Pose2D& pose, const msgs::Twist& velocity) {
-  const double lookahead_m =
-      std::clamp(options_.lookahead_time_s * std::abs(velocity.linear_mps),
-                 options_.lookahead_min_m, options_.lookahead_max_m);
+  const double lookahead_m = std::clamp(options_.lookahead_time_s * std::abs(velocity.linear_mps),
+                                        options_.lookahead_min_m, options_.lookahead_max_m);
   lookahead_ = find_lookahead(path_, {pose.x, pose.y}, status_.progress_m, lookahead_m);
   double curvature = pursuit_curvature(pose, lookahead_->point);
   if (options_.min_turning_radius_m > 0.0) {
@@ -93,9 +92,9 @@ msgs::Twist PurePursuitTracker::pursue(const geometry::Pose2D& pose, const msgs:
     }
     curvature = std::clamp(curvature, -max_curvature, max_curvature);
   }
-  double speed_mps = std::min(options_.max_linear_mps,
-                              std::sqrt(2.0 * options_.approach_decel_mps2 *
-                                        status_.distance_to_goal_m));
+  double speed_mps =
+      std::min(options_.max_linear_mps,
+               std::sqrt(2.0 * options_.approach_decel_mps2 * status_.distance_to_goal_m));
   if (std::abs(curvature) > 1e-9) {
     speed_mps = std::min(speed_mps, options_.max_angular_radps / std::abs(curvature));
   }

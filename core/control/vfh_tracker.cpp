@@ -6,15 +6,13 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/numeric/constants.h"
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
 namespace {
 
 using planning::PlanningGrid;
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 // The angle in [0, 2 pi).
 double to_circle(double angle_rad) {
@@ -27,17 +25,18 @@ double to_circle(double angle_rad) {
 VfhTracker::VfhTracker(const VfhOptions& options) : options_(options) {
   const VfhOptions& o = options;
   if (!valid(o.limits) || o.sector_count < 8 || o.sector_count > 360 ||
-      !positive(o.window_radius_m) || !(o.unknown_certainty >= 0.0 && o.unknown_certainty <= 1.0) ||
-      o.smoothing_half_width < 0 || o.smoothing_half_width > o.sector_count / 4 ||
-      !positive(o.high_threshold) || !non_negative(o.low_threshold) ||
-      o.low_threshold > o.high_threshold || o.wide_valley_sectors < 1 ||
-      o.wide_valley_sectors > o.sector_count || o.min_valley_sectors < 1 ||
-      o.min_valley_sectors > o.sector_count || !non_negative(o.target_weight) ||
-      !non_negative(o.heading_weight) || !non_negative(o.previous_weight) ||
-      !positive(o.lookahead_m) || !positive(o.heading_gain) || !positive(o.in_place_turn_rad) ||
-      !positive(o.slowdown_density) || !positive(o.approach_time_s) ||
-      !positive(o.projection_window_m) || !non_negative(o.goal_tolerance_m) ||
-      !non_negative(o.goal_tolerance_rad)) {
+      !finite_positive(o.window_radius_m) ||
+      !(o.unknown_certainty >= 0.0 && o.unknown_certainty <= 1.0) || o.smoothing_half_width < 0 ||
+      o.smoothing_half_width > o.sector_count / 4 || !finite_positive(o.high_threshold) ||
+      !finite_non_negative(o.low_threshold) || o.low_threshold > o.high_threshold ||
+      o.wide_valley_sectors < 1 || o.wide_valley_sectors > o.sector_count ||
+      o.min_valley_sectors < 1 || o.min_valley_sectors > o.sector_count ||
+      !finite_non_negative(o.target_weight) || !finite_non_negative(o.heading_weight) ||
+      !finite_non_negative(o.previous_weight) || !finite_positive(o.lookahead_m) ||
+      !finite_positive(o.heading_gain) || !finite_positive(o.in_place_turn_rad) ||
+      !finite_positive(o.slowdown_density) || !finite_positive(o.approach_time_s) ||
+      !finite_positive(o.projection_window_m) || !finite_non_negative(o.goal_tolerance_m) ||
+      !finite_non_negative(o.goal_tolerance_rad)) {
     throw std::invalid_argument("VFH tracker options out of range");
   }
   const auto n = static_cast<std::size_t>(o.sector_count);

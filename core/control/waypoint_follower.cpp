@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::control {
 namespace {
 
@@ -28,8 +30,6 @@ LyapunovOptions goal_options(const WaypointFollowerOptions& o) {
   return out;
 }
 
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
-
 std::vector<double> find_corners(const planning::Path& path, double min_turn_rad) {
   std::vector<double> corners;
   const auto& p = path.points();
@@ -49,12 +49,14 @@ WaypointFollower::WaypointFollower(const WaypointFollowerOptions& options)
     : options_(options),
       carrot_controller_(carrot_options(options)),
       goal_controller_(goal_options(options)) {
-  if (!(options.lookahead_m > 0.0) || !non_negative(options.final_approach_m) ||
-      !non_negative(options.goal_tolerance_m) || !non_negative(options.goal_tolerance_rad) ||
-      !non_negative(options.arrived_linear_mps) || !non_negative(options.arrived_angular_radps) ||
-      !(options.projection_window_m > 0.0) || !std::isfinite(options.lookahead_m) ||
-      !std::isfinite(options.projection_window_m) || !non_negative(options.corner_angle_rad) ||
-      !non_negative(options.corner_switch_radius_m)) {
+  if (!(options.lookahead_m > 0.0) || !finite_non_negative(options.final_approach_m) ||
+      !finite_non_negative(options.goal_tolerance_m) ||
+      !finite_non_negative(options.goal_tolerance_rad) ||
+      !finite_non_negative(options.arrived_linear_mps) ||
+      !finite_non_negative(options.arrived_angular_radps) || !(options.projection_window_m > 0.0) ||
+      !std::isfinite(options.lookahead_m) || !std::isfinite(options.projection_window_m) ||
+      !finite_non_negative(options.corner_angle_rad) ||
+      !finite_non_negative(options.corner_switch_radius_m)) {
     throw std::invalid_argument("waypoint follower options out of range");
   }
 }

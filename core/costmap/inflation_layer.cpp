@@ -4,24 +4,20 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+#include "core/numeric/integer_division.h"
+
 namespace mobot::costmap {
 namespace {
 
 using planning::PlanningGrid;
 
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
-
-// floor(num / den) for den > 0 (integer division truncates toward zero).
-std::int64_t floor_div(std::int64_t num, std::int64_t den) {
-  const std::int64_t q = num / den;
-  return (num % den != 0 && num < 0) ? q - 1 : q;
-}
-
 }  // namespace
 
 InflationLayer::InflationLayer(const InflationLayerOptions& options) : options_(options) {
-  if (!non_negative(options.inscribed_radius_m) || !non_negative(options.inflation_radius_m) ||
-      !non_negative(options.cost_scaling_per_m)) {
+  if (!finite_non_negative(options.inscribed_radius_m) ||
+      !finite_non_negative(options.inflation_radius_m) ||
+      !finite_non_negative(options.cost_scaling_per_m)) {
     throw std::invalid_argument("inflation options must be finite and non-negative");
   }
 }

@@ -7,18 +7,18 @@
 #include "core/costmap/cost_combination.h"
 #include "core/costmap/grid_shift.h"
 #include "core/costmap/ray_trace.h"
+#include "core/numeric/finite.h"
 
 namespace mobot::costmap {
 namespace {
 
 using planning::PlanningGrid;
 
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
-
 }  // namespace
 
 ObstacleLayer::ObstacleLayer(const ObstacleLayerOptions& options) : options_(options) {
-  if (!non_negative(options.obstacle_range_m) || !non_negative(options.raytrace_range_m)) {
+  if (!finite_non_negative(options.obstacle_range_m) ||
+      !finite_non_negative(options.raytrace_range_m)) {
     throw std::invalid_argument("obstacle layer ranges must be finite and non-negative");
   }
 }

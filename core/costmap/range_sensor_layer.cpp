@@ -8,13 +8,12 @@
 #include "core/costmap/cost_combination.h"
 #include "core/costmap/grid_shift.h"
 #include "core/costmap/ray_trace.h"
+#include "core/numeric/finite.h"
 
 namespace mobot::costmap {
 namespace {
 
 using planning::PlanningGrid;
-
-bool non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 // The cells (clipped to the grid) of the square around `centre` with half-side radius_m.
 CellBounds square_around(const PlanningGrid& grid, geometry::Point2D centre, double radius_m) {
@@ -33,7 +32,7 @@ CellBounds square_around(const PlanningGrid& grid, geometry::Point2D centre, dou
 }  // namespace
 
 RangeSensorLayer::RangeSensorLayer(const RangeSensorLayerOptions& options) : options_(options) {
-  if (!std::isfinite(options.max_mark_range_m) || !non_negative(options.arc_thickness_m)) {
+  if (!std::isfinite(options.max_mark_range_m) || !finite_non_negative(options.arc_thickness_m)) {
     throw std::invalid_argument("range sensor layer options must be finite and non-negative");
   }
 }

@@ -10,12 +10,6 @@
 namespace mobot::estimation {
 namespace {
 
-UpdateReport rejected(UpdateStatus status) {
-  UpdateReport report;
-  report.status = status;
-  return report;
-}
-
 bool all_valid(const std::vector<perception::LineSegment>& lines) {
   for (const perception::LineSegment& line : lines) {
     if (!perception::is_valid(line)) return false;
@@ -34,7 +28,7 @@ EkfLocalizer::EkfLocalizer(const EkfLocalizerOptions& options, const geometry::P
 UpdateReport EkfLocalizer::set_pose(const geometry::Pose2D& pose,
                                     const Eigen::Matrix3d& covariance) {
   const auto estimate = initial_estimate(pose, covariance);
-  if (!estimate) return rejected(UpdateStatus::kRejectedNonFinite);
+  if (!estimate) return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   pose_ = estimate->pose;
   covariance_ = estimate->covariance;
   return {};
@@ -43,19 +37,19 @@ UpdateReport EkfLocalizer::set_pose(const geometry::Pose2D& pose,
 UpdateReport EkfLocalizer::predict(double ds_right_m, double ds_left_m, double track_m) {
   if (!std::isfinite(ds_right_m) || !std::isfinite(ds_left_m) || !std::isfinite(track_m) ||
       !(track_m > 0.0)) {
-    return rejected(UpdateStatus::kRejectedNonFinite);
+    return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   }
   Eigen::Matrix3d next = propagate_odometry_covariance(covariance_, pose_, ds_left_m, ds_right_m,
                                                        track_m, options_.wheel_noise);
   next = 0.5 * (next + next.transpose()).eval();
-  if (!next.allFinite()) return rejected(UpdateStatus::kNumericalFailure);
+  if (!next.allFinite()) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
   pose_ = kinematics::integrate_wheel_travel(pose_, ds_left_m, ds_right_m, track_m);
   covariance_ = next;
   return {};
 }
 
 UpdateReport EkfLocalizer::update_compass(double heading_rad) {
-  if (!std::isfinite(heading_rad)) return rejected(UpdateStatus::kRejectedNonFinite);
+  if (!std::isfinite(heading_rad)) return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   MeasurementJacobian h(1, 3);
   h << 0.0, 0.0, 1.0;
   Eigen::MatrixXd noise(1, 1);
@@ -69,10 +63,10 @@ UpdateReport EkfLocalizer::update_bearing(double bearing_rad,
                                           const geometry::Point2D& landmark_in_map) {
   if (!std::isfinite(bearing_rad) || !std::isfinite(landmark_in_map.x) ||
       !std::isfinite(landmark_in_map.y)) {
-    return rejected(UpdateStatus::kRejectedNonFinite);
+    return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   }
   const auto prediction = predict_bearing(pose_, landmark_in_map);
-  if (!prediction) return rejected(UpdateStatus::kNumericalFailure);
+  if (!prediction) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
   MeasurementJacobian h(1, 3);
   h.row(0) = prediction->h;
   Eigen::MatrixXd noise(1, 1);
@@ -88,7 +82,7 @@ LineUpdateReport EkfLocalizer::update_lines(
   LineUpdateReport report;
   if (!geometry::is_finite(sensor_in_base) || !all_valid(observed_in_sensor) ||
       !all_valid(map_lines)) {
-    report.update = rejected(UpdateStatus::kRejectedNonFinite);
+    report.update = UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
     return report;
   }
   std::vector<perception::LineSegment> observed_in_base;
@@ -99,7 +93,7 @@ LineUpdateReport EkfLocalizer::update_lines(
   report.matches =
       match_lines(pose_, covariance_, observed_in_base, map_lines, options_.line_matching);
   if (report.matches.empty()) {
-    report.update = rejected(UpdateStatus::kNoMatch);
+    report.update = UpdateReport::rejected(UpdateStatus::kNoMatch);
     return report;
   }
   const auto rows = static_cast<Eigen::Index>(2 * report.matches.size());
@@ -123,7 +117,7 @@ UpdateReport EkfLocalizer::correct(const MeasurementJacobian& h, const Eigen::Ma
   report.rows_used = static_cast<int>(innovation.size());
   if (gate_chi2 > 0.0) {
     const auto nis = normalized_innovation_squared(covariance_, h, noise, innovation);
-    if (!nis) return rejected(UpdateStatus::kNumericalFailure);
+    if (!nis) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
     if (*nis > gate_chi2) {
       report.status = UpdateStatus::kRejectedOutlier;
       report.nis = *nis;
@@ -132,7 +126,7 @@ UpdateReport EkfLocalizer::correct(const MeasurementJacobian& h, const Eigen::Ma
     }
   }
   const auto correction = kalman_update(covariance_, h, noise, innovation);
-  if (!correction) return rejected(UpdateStatus::kNumericalFailure);
+  if (!correction) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
   pose_.x += correction->state_delta(0);
   pose_.y += correction->state_delta(1);
   pose_.theta = geometry::wrap_angle(pose_.theta + correction->state_delta(2));

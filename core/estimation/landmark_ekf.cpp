@@ -10,12 +10,6 @@
 namespace mobot::estimation {
 namespace {
 
-UpdateReport rejected(UpdateStatus status) {
-  UpdateReport report;
-  report.status = status;
-  return report;
-}
-
 bool finite_observation(const RangeBearingObservation& o) {
   return std::isfinite(o.landmark_in_map.x) && std::isfinite(o.landmark_in_map.y) &&
          std::isfinite(o.range_m) && std::isfinite(o.bearing_rad);
@@ -32,7 +26,7 @@ LandmarkEkf::LandmarkEkf(const LandmarkEkfOptions& options, const geometry::Pose
 UpdateReport LandmarkEkf::set_pose(const geometry::Pose2D& pose,
                                    const Eigen::Matrix3d& covariance) {
   const auto estimate = initial_estimate(pose, covariance);
-  if (!estimate) return rejected(UpdateStatus::kRejectedNonFinite);
+  if (!estimate) return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   pose_ = estimate->pose;
   covariance_ = estimate->covariance;
   return {};
@@ -41,7 +35,7 @@ UpdateReport LandmarkEkf::set_pose(const geometry::Pose2D& pose,
 UpdateReport LandmarkEkf::predict(double speed_mps, double steer_rad, double dt_s) {
   if (!std::isfinite(speed_mps) || !std::isfinite(steer_rad) || !std::isfinite(dt_s) ||
       dt_s < 0.0 || !(std::cos(steer_rad) > 1e-6) || !(options_.wheelbase_m > 0.0)) {
-    return rejected(UpdateStatus::kRejectedNonFinite);
+    return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   }
   const TricycleJacobians j = tricycle_jacobians(pose_, speed_mps, steer_rad, options_.wheelbase_m,
                                                  dt_s, options_.integration);
@@ -50,7 +44,7 @@ UpdateReport LandmarkEkf::predict(double speed_mps, double steer_rad, double dt_
   q(1, 1) = options_.steer_sigma_rad * options_.steer_sigma_rad;
   Eigen::Matrix3d next = j.a * covariance_ * j.a.transpose() + j.w * q * j.w.transpose();
   next = 0.5 * (next + next.transpose()).eval();
-  if (!next.allFinite()) return rejected(UpdateStatus::kNumericalFailure);
+  if (!next.allFinite()) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
   pose_ =
       tricycle_step(pose_, speed_mps, steer_rad, options_.wheelbase_m, dt_s, options_.integration);
   covariance_ = next;
@@ -58,9 +52,9 @@ UpdateReport LandmarkEkf::predict(double speed_mps, double steer_rad, double dt_
 }
 
 UpdateReport LandmarkEkf::update(const std::vector<RangeBearingObservation>& observations) {
-  if (observations.empty()) return rejected(UpdateStatus::kNoMatch);
+  if (observations.empty()) return UpdateReport::rejected(UpdateStatus::kNoMatch);
   for (const RangeBearingObservation& o : observations) {
-    if (!finite_observation(o)) return rejected(UpdateStatus::kRejectedNonFinite);
+    if (!finite_observation(o)) return UpdateReport::rejected(UpdateStatus::kRejectedNonFinite);
   }
   const auto rows = static_cast<Eigen::Index>(2 * observations.size());
   MeasurementJacobian h(rows, 3);
@@ -70,7 +64,7 @@ UpdateReport LandmarkEkf::update(const std::vector<RangeBearingObservation>& obs
     const RangeBearingObservation& o = observations[k];
     const auto range = predict_range(pose_, o.landmark_in_map);
     const auto bearing = predict_bearing(pose_, o.landmark_in_map);
-    if (!range || !bearing) return rejected(UpdateStatus::kNumericalFailure);
+    if (!range || !bearing) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
     const auto row = static_cast<Eigen::Index>(2 * k);
     h.row(row) = range->h;
     h.row(row + 1) = bearing->h;
@@ -80,7 +74,7 @@ UpdateReport LandmarkEkf::update(const std::vector<RangeBearingObservation>& obs
     innovation(row + 1) = geometry::wrap_angle(o.bearing_rad - bearing->z);
   }
   const auto correction = kalman_update(covariance_, h, noise, innovation);
-  if (!correction) return rejected(UpdateStatus::kNumericalFailure);
+  if (!correction) return UpdateReport::rejected(UpdateStatus::kNumericalFailure);
   pose_.x += correction->state_delta(0);
   pose_.y += correction->state_delta(1);
   pose_.theta = geometry::wrap_angle(pose_.theta + correction->state_delta(2));

@@ -7,10 +7,6 @@
 namespace mobot::estimation {
 namespace {
 
-double distance_m(const geometry::Point2D& a, const geometry::Point2D& b) {
-  return std::hypot(a.x - b.x, a.y - b.y);
-}
-
 // How far outside map segment a-b a point lies, measured as E2's endpoint distance sum.
 double endpoint_excess_m(const geometry::Point2D& point, const perception::LineSegment& map_line) {
   return distance_m(point, map_line.start) + distance_m(point, map_line.end) -

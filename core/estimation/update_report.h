@@ -21,6 +21,12 @@ struct UpdateReport {
   double nis = 0.0;
 
   bool applied() const { return status == UpdateStatus::kApplied; }
+
+  static UpdateReport rejected(UpdateStatus why) {
+    UpdateReport report;
+    report.status = why;
+    return report;
+  }
 };
 
 const char* to_string(UpdateStatus status);

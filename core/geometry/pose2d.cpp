@@ -1,5 +1,6 @@
 #include "core/geometry/pose2d.h"
 
+#include <cmath>
 #include <numbers>
 
 namespace mobot::geometry {
@@ -32,5 +33,7 @@ Point2D transform_point(const Pose2D& frame, const Point2D& point) {
 bool is_finite(const Pose2D& pose) {
   return std::isfinite(pose.x) && std::isfinite(pose.y) && std::isfinite(pose.theta);
 }
+
+double distance_m(const Point2D& a, const Point2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 }  // namespace mobot::geometry

@@ -34,4 +34,6 @@ Point2D transform_point(const Pose2D& frame, const Point2D& point);
 
 bool is_finite(const Pose2D& pose);
 
+double distance_m(const Point2D& a, const Point2D& b);
+
 }  // namespace mobot::geometry

@@ -7,10 +7,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/numeric/constants.h"
+
 namespace mobot::perception {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr std::size_t kMaxBinGap = 2;  // empty bins a segment may span
 
 void require_positive(double value, const char* name) {

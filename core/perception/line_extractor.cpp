@@ -56,10 +56,6 @@ double range_sigma_m(const LineExtractorOptions& options, double range_m) {
   return options.range_sigma_m + options.range_sigma_fraction * range_m;
 }
 
-double distance_m(const geometry::Point2D& a, const geometry::Point2D& b) {
-  return std::hypot(a.x - b.x, a.y - b.y);
-}
-
 bool is_breakpoint(const ScanPoint& a, const ScanPoint& b, double increment_rad,
                    const LineExtractorOptions& options) {
   const double gap_rad = std::abs(increment_rad) * (b.beam - a.beam);
@@ -200,17 +196,12 @@ void merge_neighbours(std::span<const ScanPoint> points, bool full_circle,
   }
 }
 
-geometry::Point2D project(const LineSegment& line, const geometry::Point2D& point) {
-  const double d = signed_distance(line, point);
-  return {point.x - d * std::cos(line.alpha_rad), point.y - d * std::sin(line.alpha_rad)};
-}
-
 LineSegment finish(std::span<const ScanPoint> points, const Segment& segment,
                    const LineExtractorOptions& options) {
   LineSegment line = fit_members(points, segment.members);
   line.has_endpoints = true;
-  line.start = project(line, points[segment.members.front()].xy);
-  line.end = project(line, points[segment.members.back()].xy);
+  line.start = project_onto(line, points[segment.members.front()].xy);
+  line.end = project_onto(line, points[segment.members.back()].xy);
   std::vector<geometry::Point2D> xy;
   std::vector<double> perpendicular_var_m2;
   xy.reserve(segment.members.size());

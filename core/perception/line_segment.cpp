@@ -55,4 +55,9 @@ double signed_distance(const LineSegment& line, const geometry::Point2D& point) 
   return point.x * std::cos(line.alpha_rad) + point.y * std::sin(line.alpha_rad) - line.rho_m;
 }
 
+geometry::Point2D project_onto(const LineSegment& line, const geometry::Point2D& point) {
+  const double d = signed_distance(line, point);
+  return {point.x - d * std::cos(line.alpha_rad), point.y - d * std::sin(line.alpha_rad)};
+}
+
 }  // namespace mobot::perception

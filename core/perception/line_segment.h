@@ -45,4 +45,7 @@ LineSegment transform_line(const geometry::Pose2D& frame, const LineSegment& lin
 // Distance of a point from the infinite line, signed positive on the side away from the origin.
 double signed_distance(const LineSegment& line, const geometry::Point2D& point);
 
+// The foot of the perpendicular from a point to the infinite line.
+geometry::Point2D project_onto(const LineSegment& line, const geometry::Point2D& point);
+
 }  // namespace mobot::perception

@@ -161,11 +161,6 @@ class FreeSideProbe {
   std::uint8_t free_max_value_;
 };
 
-geometry::Point2D project(const LineSegment& line, const geometry::Point2D& point) {
-  const double d = signed_distance(line, point);
-  return {point.x - d * std::cos(line.alpha_rad), point.y - d * std::sin(line.alpha_rad)};
-}
-
 // Drops end cells that are off the fitted line by more than this (cells): the turn of a corner
 // that split-and-merge left on a piece (a 1-cell step sits right at the split tolerance).
 constexpr double kEndTrimCells = 0.6;
@@ -229,8 +224,8 @@ std::optional<LineSegment> wall_face(const std::vector<cv::Point>& outline, Piec
   line = normalized(line);
   const geometry::Point2D head_m{(head.x - 0.5) * res, (head.y - 0.5) * res};
   const geometry::Point2D tail_m{(tail.x - 0.5) * res, (tail.y - 0.5) * res};
-  geometry::Point2D start = project(line, head_m);
-  geometry::Point2D end = project(line, tail_m);
+  geometry::Point2D start = project_onto(line, head_m);
+  geometry::Point2D end = project_onto(line, tail_m);
   const double length_m = std::hypot(end.x - start.x, end.y - start.y);
   if (length_m + res < options.min_length_m) return std::nullopt;
   if (length_m > 0.0) {

@@ -7,13 +7,12 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/numeric/constants.h"
 #include "core/planning/grid_search.h"
 #include "core/planning/grid_steps.h"
 
 namespace mobot::planning {
 namespace {
-
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Open-list order: smaller f first; among equal f the node nearer the goal (smaller h), which cuts
 // the expansions on open ground (1000 instead of most of a 1000 x 1000 grid) without changing the

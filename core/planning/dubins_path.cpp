@@ -6,10 +6,10 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/numeric/constants.h"
+
 namespace mobot::planning {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Into [0, 2 pi). A turn that rounding left a hair below a full circle is no turn: no shortest
 // path turns a full circle, and keeping it would add a loop.

@@ -11,6 +11,7 @@
 #include <utility>
 #include <variant>
 
+#include "core/numeric/constants.h"
 #include "core/planning/dubins_path.h"
 #include "core/planning/grid_search.h"
 #include "core/planning/grid_steps.h"
@@ -18,7 +19,6 @@
 namespace mobot::planning {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 // A check point off the grid costs as much as unknown space; the base origin off the grid more
 // than any cell, so not even an escape takes it there (the path's cells must exist).

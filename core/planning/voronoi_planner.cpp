@@ -11,6 +11,7 @@
 #include <queue>
 #include <stdexcept>
 
+#include "core/numeric/constants.h"
 #include "core/planning/grid_search.h"
 #include "core/planning/grid_steps.h"
 #include "core/planning/line_of_sight.h"
@@ -18,7 +19,6 @@
 namespace mobot::planning {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr std::uint8_t kStepMask = 0x07;
 constexpr std::uint8_t kClosed = 0x08;
 

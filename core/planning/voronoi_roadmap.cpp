@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/numeric/integer_division.h"
+
 namespace mobot::planning {
 namespace {
 
@@ -15,14 +17,6 @@ bool is_site_cost(std::uint8_t cost) {
 }
 
 std::int64_t squared(std::int64_t v) { return v * v; }
-
-// Rounds towards minus infinity (C++ division truncates towards zero; the separation below can be
-// negative).
-std::int64_t floor_div(std::int64_t numerator, std::int64_t denominator) {
-  const std::int64_t quotient = numerator / denominator;
-  return (numerator % denominator != 0 && ((numerator < 0) != (denominator < 0))) ? quotient - 1
-                                                                                  : quotient;
-}
 
 // Phase 1 of Meijster's transform: for every cell the row of the nearest obstacle in its own
 // column, or kNoRow. A tie (as near above as below) goes to the lower row.

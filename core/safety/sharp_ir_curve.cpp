@@ -5,19 +5,19 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::safety {
 namespace {
 
 constexpr double kCentimetresPerMetre = 100.0;
 
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
-
 }  // namespace
 
 SharpIrCurve::SharpIrCurve(const SharpIrCurveOptions& options) : options_(options) {
-  if (!positive(options.reference_voltage_v) || options.adc_full_scale <= 0 ||
-      !positive(options.coefficient_cm) || !positive(options.exponent) ||
-      !positive(options.min_valid_m) || !positive(options.max_valid_m) ||
+  if (!finite_positive(options.reference_voltage_v) || options.adc_full_scale <= 0 ||
+      !finite_positive(options.coefficient_cm) || !finite_positive(options.exponent) ||
+      !finite_positive(options.min_valid_m) || !finite_positive(options.max_valid_m) ||
       !(options.min_valid_m < options.max_valid_m)) {
     throw std::invalid_argument(
         "sharp ir curve: reference, full scale, coefficient, exponent and the window must be "

@@ -20,34 +20,36 @@ constexpr double kPi = std::numbers::pi;
 // image that bilinear sampling sees only the black border.
 constexpr float kOutside = -10.0F;
 
-void require(bool condition, const std::string& message) {
+void require_omni(bool condition, const std::string& message) {
   if (!condition) throw std::invalid_argument("OmniLandmarkBearingOptions: " + message);
 }
 
 void validate(const OmniCameraModel& model, const OmniLandmarkBearingOptions& o) {
-  require(model.width_px > 0 && model.height_px > 0, "the camera model needs a positive size");
-  require(o.panorama_width_px >= 16 && o.panorama_height_px >= 8,
-          "panorama_width_px must be >= 16 and panorama_height_px >= 8");
-  require(std::isfinite(o.min_elevation_rad) && std::isfinite(o.max_elevation_rad) &&
-              o.min_elevation_rad < o.max_elevation_rad,
-          "the elevation band must be finite with min < max");
-  require(
+  require_omni(model.width_px > 0 && model.height_px > 0, "the camera model needs a positive size");
+  require_omni(o.panorama_width_px >= 16 && o.panorama_height_px >= 8,
+               "panorama_width_px must be >= 16 and panorama_height_px >= 8");
+  require_omni(std::isfinite(o.min_elevation_rad) && std::isfinite(o.max_elevation_rad) &&
+                   o.min_elevation_rad < o.max_elevation_rad,
+               "the elevation band must be finite with min < max");
+  require_omni(
       std::isfinite(o.seam_padding_rad) && o.seam_padding_rad >= 0.0 && o.seam_padding_rad < kPi,
       "seam_padding_rad must be in [0, pi)");
-  require(o.hue_centre >= 0 && o.hue_centre < 180 && o.hue_tolerance >= 0 && o.hue_tolerance < 90,
-          "hue_centre must be in 0..179 and hue_tolerance in 0..89");
-  require(
+  require_omni(
+      o.hue_centre >= 0 && o.hue_centre < 180 && o.hue_tolerance >= 0 && o.hue_tolerance < 90,
+      "hue_centre must be in 0..179 and hue_tolerance in 0..89");
+  require_omni(
       o.min_saturation >= 0 && o.min_saturation <= 255 && o.min_value >= 0 && o.min_value <= 255,
       "min_saturation and min_value must be in 0..255");
-  require(o.open_kernel_rows >= 1, "open_kernel_rows must be >= 1");
-  require(std::isfinite(o.min_line_extent_rad) && o.min_line_extent_rad > 0.0,
-          "min_line_extent_rad must be > 0");
-  require(std::isfinite(o.max_line_tilt_rad) && o.max_line_tilt_rad >= 0.0 &&
-              o.max_line_tilt_rad < kPi / 2,
-          "max_line_tilt_rad must be in [0, pi/2)");
-  require(std::isfinite(o.min_aspect) && o.min_aspect >= 0.0, "min_aspect must be >= 0");
-  require(o.hough_max_gap_px >= 0, "hough_max_gap_px must be >= 0");
-  require(std::isfinite(o.merge_gap_rad) && o.merge_gap_rad >= 0.0, "merge_gap_rad must be >= 0");
+  require_omni(o.open_kernel_rows >= 1, "open_kernel_rows must be >= 1");
+  require_omni(std::isfinite(o.min_line_extent_rad) && o.min_line_extent_rad > 0.0,
+               "min_line_extent_rad must be > 0");
+  require_omni(std::isfinite(o.max_line_tilt_rad) && o.max_line_tilt_rad >= 0.0 &&
+                   o.max_line_tilt_rad < kPi / 2,
+               "max_line_tilt_rad must be in [0, pi/2)");
+  require_omni(std::isfinite(o.min_aspect) && o.min_aspect >= 0.0, "min_aspect must be >= 0");
+  require_omni(o.hough_max_gap_px >= 0, "hough_max_gap_px must be >= 0");
+  require_omni(std::isfinite(o.merge_gap_rad) && o.merge_gap_rad >= 0.0,
+               "merge_gap_rad must be >= 0");
 }
 
 // Hue ranges in OpenCV's 0..180 scale, split where they wrap past 0 or 180.

@@ -11,13 +11,13 @@ namespace {
 
 using Vec3 = std::array<double, 3>;
 
-void require(bool condition, const std::string& message) {
+void require_head(bool condition, const std::string& message) {
   if (!condition) throw std::invalid_argument("PanTiltHeadOptions: " + message);
 }
 
 void require_range(double min_rad, double max_rad, const std::string& name) {
-  require(std::isfinite(min_rad) && std::isfinite(max_rad) && min_rad <= max_rad,
-          name + " limits must be finite with min <= max");
+  require_head(std::isfinite(min_rad) && std::isfinite(max_rad) && min_rad <= max_rad,
+               name + " limits must be finite with min <= max");
 }
 
 double step_axis(double current, double target, double max_step) {
@@ -46,14 +46,16 @@ Vec3 pixel_ray_in_base(PanTilt joints, double u_px, double v_px, const PinholeCa
 
 PanTiltHead::PanTiltHead(PanTiltHeadOptions options) : options_(options) {
   for (const double length : {options_.l0_m, options_.l1_m, options_.l2_m}) {
-    require(std::isfinite(length) && length >= 0.0, "l0_m, l1_m, l2_m must be finite and >= 0");
+    require_head(std::isfinite(length) && length >= 0.0,
+                 "l0_m, l1_m, l2_m must be finite and >= 0");
   }
-  require(std::isfinite(options_.mount_x_m), "mount_x_m must be finite");
+  require_head(std::isfinite(options_.mount_x_m), "mount_x_m must be finite");
   require_range(options_.min_pan_rad, options_.max_pan_rad, "pan");
   require_range(options_.min_tilt_rad, options_.max_tilt_rad, "tilt");
-  require(std::isfinite(options_.max_pan_rate_rad_s) && options_.max_pan_rate_rad_s > 0.0 &&
-              std::isfinite(options_.max_tilt_rate_rad_s) && options_.max_tilt_rate_rad_s > 0.0,
-          "max_pan_rate_rad_s and max_tilt_rate_rad_s must be finite and > 0");
+  require_head(std::isfinite(options_.max_pan_rate_rad_s) && options_.max_pan_rate_rad_s > 0.0 &&
+                   std::isfinite(options_.max_tilt_rate_rad_s) &&
+                   options_.max_tilt_rate_rad_s > 0.0,
+               "max_pan_rate_rad_s and max_tilt_rate_rad_s must be finite and > 0");
 }
 
 LensPosition PanTiltHead::lens_in_base(PanTilt joints) const {

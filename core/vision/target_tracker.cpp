@@ -14,39 +14,43 @@ namespace {
 
 constexpr std::array<float, 2> kHueRange{0.0F, 180.0F};
 
-void require(bool condition, const std::string& message) {
+void require_tracker(bool condition, const std::string& message) {
   if (!condition) throw std::invalid_argument("TargetTrackerOptions: " + message);
 }
 
 bool is_positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 void validate(const TargetTrackerOptions& o) {
-  require(o.hue_bins >= 1 && o.hue_bins <= 180, "hue_bins must be in 1..180");
-  require(o.min_saturation >= 0 && o.min_saturation <= 255, "min_saturation must be in 0..255");
-  require(o.min_value >= 0 && o.min_value <= o.max_value && o.max_value <= 255,
-          "min_value and max_value must satisfy 0 <= min_value <= max_value <= 255");
-  require(o.min_coloured_pixels >= 1, "min_coloured_pixels must be >= 1");
-  require(o.min_coloured_fraction >= 0.0 && o.min_coloured_fraction <= 1.0,
-          "min_coloured_fraction must be in 0..1");
-  require(o.camshift_max_iterations >= 1 && is_positive(o.camshift_epsilon_px),
-          "camshift_max_iterations must be >= 1 and camshift_epsilon_px > 0");
-  require(o.occluded_mass_fraction > 0.0 && o.occluded_mass_fraction <= o.reacquire_mass_fraction,
-          "occluded_mass_fraction must be > 0 and <= reacquire_mass_fraction");
-  require(std::isfinite(o.reacquire_mass_fraction), "reacquire_mass_fraction must be finite");
-  require(std::isfinite(o.reference_time_constant_s) && o.reference_time_constant_s >= 0.0,
-          "reference_time_constant_s must be >= 0");
-  require(o.collapsed_size_fraction >= 0.0 && o.collapsed_size_fraction < 1.0,
-          "collapsed_size_fraction must be in 0..1");
-  require(is_positive(o.gate_sigmas) && std::isfinite(o.min_gate_px) && o.min_gate_px >= 0.0 &&
-              std::isfinite(o.min_gate_size_fraction) && o.min_gate_size_fraction >= 0.0,
-          "gate_sigmas must be > 0, min_gate_px and min_gate_size_fraction >= 0");
-  require(std::isfinite(o.search_sigmas) && o.search_sigmas >= 0.0 &&
-              std::isfinite(o.max_search_scale) && o.max_search_scale >= 1.0,
-          "search_sigmas must be >= 0 and max_search_scale >= 1");
-  require(is_positive(o.lost_after_s), "lost_after_s must be > 0");
-  require(is_positive(o.acceleration_sigma_px_s2) && is_positive(o.measurement_sigma_px) &&
-              is_positive(o.initial_velocity_sigma_px_s),
-          "the Kalman sigmas must be > 0");
+  require_tracker(o.hue_bins >= 1 && o.hue_bins <= 180, "hue_bins must be in 1..180");
+  require_tracker(o.min_saturation >= 0 && o.min_saturation <= 255,
+                  "min_saturation must be in 0..255");
+  require_tracker(o.min_value >= 0 && o.min_value <= o.max_value && o.max_value <= 255,
+                  "min_value and max_value must satisfy 0 <= min_value <= max_value <= 255");
+  require_tracker(o.min_coloured_pixels >= 1, "min_coloured_pixels must be >= 1");
+  require_tracker(o.min_coloured_fraction >= 0.0 && o.min_coloured_fraction <= 1.0,
+                  "min_coloured_fraction must be in 0..1");
+  require_tracker(o.camshift_max_iterations >= 1 && is_positive(o.camshift_epsilon_px),
+                  "camshift_max_iterations must be >= 1 and camshift_epsilon_px > 0");
+  require_tracker(
+      o.occluded_mass_fraction > 0.0 && o.occluded_mass_fraction <= o.reacquire_mass_fraction,
+      "occluded_mass_fraction must be > 0 and <= reacquire_mass_fraction");
+  require_tracker(std::isfinite(o.reacquire_mass_fraction),
+                  "reacquire_mass_fraction must be finite");
+  require_tracker(std::isfinite(o.reference_time_constant_s) && o.reference_time_constant_s >= 0.0,
+                  "reference_time_constant_s must be >= 0");
+  require_tracker(o.collapsed_size_fraction >= 0.0 && o.collapsed_size_fraction < 1.0,
+                  "collapsed_size_fraction must be in 0..1");
+  require_tracker(is_positive(o.gate_sigmas) && std::isfinite(o.min_gate_px) &&
+                      o.min_gate_px >= 0.0 && std::isfinite(o.min_gate_size_fraction) &&
+                      o.min_gate_size_fraction >= 0.0,
+                  "gate_sigmas must be > 0, min_gate_px and min_gate_size_fraction >= 0");
+  require_tracker(std::isfinite(o.search_sigmas) && o.search_sigmas >= 0.0 &&
+                      std::isfinite(o.max_search_scale) && o.max_search_scale >= 1.0,
+                  "search_sigmas must be >= 0 and max_search_scale >= 1");
+  require_tracker(is_positive(o.lost_after_s), "lost_after_s must be > 0");
+  require_tracker(is_positive(o.acceleration_sigma_px_s2) && is_positive(o.measurement_sigma_px) &&
+                      is_positive(o.initial_velocity_sigma_px_s),
+                  "the Kalman sigmas must be > 0");
 }
 
 bool is_bgr(const cv::Mat& frame) { return !frame.empty() && frame.type() == CV_8UC3; }

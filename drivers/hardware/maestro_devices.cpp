@@ -5,13 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/numeric/constants.h"
 #include "drivers/hardware/maestro_pan_tilt.h"
 #include "drivers/hardware/polled_sensor.h"
 
 namespace mobot::drivers::hardware {
 namespace {
-
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 // The head's thread, for the backend to start and stop; the driver set owns the head (its
 // driver) and outlives this (the assembly's devices go first).

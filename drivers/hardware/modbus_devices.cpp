@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "drivers/modbus/modbus_frame_bytes.h"
 #include "drivers/modbus/modbus_poll_schedule.h"
 
 namespace mobot::drivers::hardware {
@@ -15,11 +16,10 @@ namespace {
 // Modbus slave ids; 0 is the broadcast, which no slave answers.
 constexpr int kFirstSlaveId = 1;
 constexpr int kLastSlaveId = 247;
-// The length of a reply to one read, as ModbusRtuBus counts it: slave, function, byte count,
-// data, CRC; an exception reply has no byte count and one code byte.
-constexpr std::uint64_t kRegisterReplyBytes = 7;
-constexpr std::uint64_t kBitsReplyBytes = 6;
-constexpr std::uint64_t kExceptionReplyBytes = 5;
+// The length of a reply to one read, as ModbusRtuBus counts it.
+using modbus::kBitsReplyBytes;
+using modbus::kExceptionReplyBytes;
+using modbus::kRegisterReplyBytes;
 
 std::string node_name(const modbus::NodeHealth& health) {
   switch (health.kind) {

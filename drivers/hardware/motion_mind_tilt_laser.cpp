@@ -4,11 +4,11 @@
 #include <numbers>
 #include <utility>
 
+#include "core/numeric/constants.h"
+
 namespace mobot::drivers::hardware {
 
 namespace {
-
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 std::int64_t counts_of(double degrees, double counts_per_degree) {
   return std::llround(degrees * counts_per_degree);

@@ -5,20 +5,16 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/numeric/finite.h"
+#include "drivers/modbus/modbus_frame_bytes.h"
+
 namespace mobot::drivers::modbus {
 namespace {
 
 // 8N1: a start bit, 8 data bits, a stop bit.
 constexpr double kBitsPerByte = 10.0;
-// A read request: slave, function, address (2), quantity (2), CRC (2).
-constexpr int kRequestBytes = 8;
-// A reply: slave, function, byte count, data, CRC (2); one register or one byte of bits.
-constexpr int kRegisterReplyBytes = 5 + 2;
-constexpr int kBitsReplyBytes = 5 + 1;
 // Due times are sums of periods that are not exact in binary.
 constexpr double kSlack_s = 1e-9;
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 void check(const PollScheduleOptions& options) {
   std::set<int> ids;
@@ -31,10 +27,10 @@ void check(const PollScheduleOptions& options) {
     if (!ids.insert(id).second) throw std::invalid_argument("modbus poll: a slave id repeats");
   }
   if (options.sonar_nodes.empty()) throw std::invalid_argument("modbus poll: no sonar node");
-  if (!positive(options.compass_rate_hz) || !positive(options.sonar_rate_hz) ||
-      !positive(options.limit_switch_rate_hz) || options.baud <= 0 ||
-      !positive(options.max_bus_load) || options.failures_before_not_ok < 1 ||
-      !positive(options.retry_period_s) || !std::isfinite(options.turnaround_s) ||
+  if (!finite_positive(options.compass_rate_hz) || !finite_positive(options.sonar_rate_hz) ||
+      !finite_positive(options.limit_switch_rate_hz) || options.baud <= 0 ||
+      !finite_positive(options.max_bus_load) || options.failures_before_not_ok < 1 ||
+      !finite_positive(options.retry_period_s) || !std::isfinite(options.turnaround_s) ||
       options.turnaround_s < 0.0) {
     throw std::invalid_argument(
         "modbus poll: rates, baud, bus load, failure count and retry period must be positive");

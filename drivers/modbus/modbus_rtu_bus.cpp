@@ -11,6 +11,8 @@
 #include <utility>
 
 #include "core/geometry/pose2d.h"
+#include "core/numeric/finite.h"
+#include "drivers/modbus/modbus_frame_bytes.h"
 
 namespace mobot::drivers::modbus {
 namespace {
@@ -20,16 +22,10 @@ constexpr std::array kBauds = {110,     300,     600,     1200,    2400,    4800
                                38400,   57600,   115200,  230400,  460800,  500000,  576000, 921600,
                                1000000, 1152000, 1500000, 2500000, 3000000, 3500000, 4000000};
 constexpr int kCompassTenthsPerTurn = 3600;
-// Slave, function, byte count, data, CRC: one register, one byte of bits; an exception.
-constexpr int kRegisterReplyBytes = 7;
-constexpr int kBitsReplyBytes = 6;
-constexpr int kExceptionReplyBytes = 5;
 
 int reply_bytes(NodeKind kind) {
   return kind == NodeKind::kLimitSwitch ? kBitsReplyBytes : kRegisterReplyBytes;
 }
-
-bool positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 BusClock::duration duration(double seconds) {
   return std::chrono::duration_cast<BusClock::duration>(std::chrono::duration<double>(seconds));
@@ -41,8 +37,8 @@ void check(const ModbusRtuBusOptions& options) {
     throw std::invalid_argument("modbus bus: a baud rate the serial port does not know: " +
                                 std::to_string(options.baud));
   }
-  if (!positive(options.response_timeout_s) || options.response_timeout_s >= 60.0 ||
-      !positive(options.silent_timeout_s) || !positive(options.reopen_period_s)) {
+  if (!finite_positive(options.response_timeout_s) || options.response_timeout_s >= 60.0 ||
+      !finite_positive(options.silent_timeout_s) || !finite_positive(options.reopen_period_s)) {
     throw std::invalid_argument(
         "modbus bus: the time-out is in (0, 60) s, the silence and reopen periods positive");
   }

@@ -7,6 +7,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/numeric/constants.h"
+
 namespace mobot::sim {
 namespace {
 
@@ -24,7 +26,6 @@ constexpr int kResumeJumpCells = 3;
 constexpr int kTrustTileJumpCells = 32;
 // Keeps rounding in the distance transform from ever letting a jump touch a blocking cell.
 constexpr double kJumpMarginCells = 1e-3;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Per cell, how many whole cells a ray may advance from any point of the cell: the distance
 // transform gives the centre-to-centre distance D to the nearest blocking cell; a point of this

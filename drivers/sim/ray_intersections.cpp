@@ -3,10 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include "core/numeric/constants.h"
+
 namespace mobot::sim {
 namespace {
-
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // The nearer root of a t^2 + b t + c = 0 when both are ahead of the origin, else nullopt (a
 // miss, or an origin inside where c <= 0).

@@ -4,10 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#include "core/numeric/constants.h"
+
 namespace mobot::sim {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kHalfPi = 1.57079632679489661923;
 constexpr double kPi = 3.14159265358979323846;
 

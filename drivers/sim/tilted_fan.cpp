@@ -6,12 +6,11 @@
 #include <numbers>
 #include <vector>
 
+#include "core/numeric/constants.h"
 #include "drivers/sim/simulator.h"
 
 namespace mobot::sim {
 namespace {
-
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Distance along the 3D ray to a vertical cylinder standing on the floor: its side, or its top
 // for a ray coming down onto it. Negative when missed.

@@ -7,6 +7,7 @@
 // The steps share one server and run in order: CTest runs the suite as one test
 // (tests/api/CMakeLists.txt), never a step alone.
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "support/api_test.h"
@@ -14,8 +15,6 @@
 
 namespace mobot::testing {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Point {
   double x;
@@ -202,8 +201,8 @@ TEST_F(DashgoTest, E_RecoversFromAKidnapWithin30sOfDriving) {
                 .put("/api/v1/localization/method", json{{"method", "particle_filter"}})
                 .status,
             200);
-  const HttpReply kidnap =
-      operator_client().post("/api/v1/sim/kidnap", json{{"x", 14.0}, {"y", 7.5}, {"theta", kPi}});
+  const HttpReply kidnap = operator_client().post(
+      "/api/v1/sim/kidnap", json{{"x", 14.0}, {"y", 7.5}, {"theta", std::numbers::pi}});
   ASSERT_EQ(kidnap.status, 200) << kidnap.body;
   ASSERT_GT(position_error(), 1.0);
   const double start = robot_time(viewer());
@@ -227,7 +226,7 @@ TEST_F(DashgoTest, F_TheIrOnlyTableIsAvoided) {
   drive_to({2.6, 5.6}, nullptr);
   drive_to({1.2, 5.0}, nullptr);
   // Facing the table (south), as the operator would drive at it.
-  ASSERT_TRUE(turn_to(-kPi / 2.0));
+  ASSERT_TRUE(turn_to(-std::numbers::pi / 2.0));
   // Straight at it until the ring reacts (the operator then lets go) or the robot is past it.
   // (The ring may have reacted before, at the door: only a newer event counts.)
   const std::int64_t run_id = current_run_id(viewer());
@@ -258,8 +257,10 @@ TEST_F(DashgoTest, G_AGoalBeyondAKeepoutZoneRoutesAroundIt) {
   ASSERT_GT(saved_map_id_, 0);
   // Out of the south-west room the way F came in (a straight line to the corridor meets a wall,
   // and pushed into it until drive_to's time-out this step took two minutes).
-  for (const Point& waypoint : {Point{1.2, 5.0}, Point{2.6, 5.6}, Point{2.6, 7.5}, Point{4.0, 7.5}}) {
-    ASSERT_TRUE(drive_to(waypoint, nullptr)) << "did not reach " << waypoint.x << ", " << waypoint.y;
+  for (const Point& waypoint :
+       {Point{1.2, 5.0}, Point{2.6, 5.6}, Point{2.6, 7.5}, Point{4.0, 7.5}}) {
+    ASSERT_TRUE(drive_to(waypoint, nullptr))
+        << "did not reach " << waypoint.x << ", " << waypoint.y;
   }
   stop_robot();
   const std::string zones = "/api/v1/maps/" + std::to_string(saved_map_id_) + "/zones";

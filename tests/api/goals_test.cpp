@@ -3,6 +3,7 @@
 // the EKF estimate against the simulator's truth while driving, and POST /api/v1/localization/pose.
 // The office world (20 x 15 m, start (2, 7.5, 0) in a 2 m east-west corridor y 6.5..8.5).
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "support/goal_support.h"
@@ -10,7 +11,6 @@
 namespace mobot::testing {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Generous robot-time limits: a goal across the corridor takes ~30 s of robot time.
 constexpr double kGoalTimeout_s = 120.0;
 
@@ -230,7 +230,7 @@ TEST_F(GoalsTest, DeleteOfASucceededGoalIs409) {
 TEST_F(GoalsTest, ANewGoalPreemptsTheActiveOne) {
   const json first = start_goal(16.0, 7.5, 0.0);
   ASSERT_TRUE(wait_moved(0.5));
-  const json second = start_goal(4.0, 7.5, kPi);
+  const json second = start_goal(4.0, 7.5, std::numbers::pi);
   ASSERT_NE(first.at("id"), second.at("id"));
   EXPECT_EQ(second.at("status"), "active");
   const json preempted = goal(first.at("id"));
@@ -248,7 +248,7 @@ TEST_F(GoalsTest, ANewGoalPreemptsTheActiveOne) {
   const json ended = wait_goal_end(viewer(), second.at("id"), kGoalTimeout_s);
   EXPECT_EQ(ended.at("status"), "succeeded") << ended.dump();
   const json truth = sim_truth(viewer());
-  const json target{{"x", 4.0}, {"y", 7.5}, {"theta", kPi}};
+  const json target{{"x", 4.0}, {"y", 7.5}, {"theta", std::numbers::pi}};
   EXPECT_LT(xy_distance(truth.at("pose"), target), 0.10) << pose_text(truth.at("pose"));
   EXPECT_LT(heading_error(truth.at("pose"), target), 0.10) << pose_text(truth.at("pose"));
   EXPECT_EQ(truth.at("collisions"), 0);
@@ -572,7 +572,7 @@ TEST_F(GoalsTest, EstimateStaysCloseToTheTruthWhileDriving) {
   WsClient stream(port(), viewer_token());
   stream.send({{"op", "subscribe"}, {"topics", {"pose", "truth", "goal"}}});
   ASSERT_TRUE(stream.read_until("subscribed", 5s).has_value());
-  const json created = start_goal(10.0, 11.5, kPi / 2);
+  const json created = start_goal(10.0, 11.5, std::numbers::pi / 2);
   const std::int64_t id = created.at("id");
   std::map<double, json> poses;
   std::map<double, json> truths;

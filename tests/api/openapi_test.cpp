@@ -52,7 +52,7 @@ std::string match_path(const json& doc, const std::string& target) {
   return "";
 }
 
-std::string lower(std::string text) {
+std::string lowercase(std::string text) {
   for (auto& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return text;
 }
@@ -73,7 +73,7 @@ void expect_statuses_documented(const json& doc, const std::vector<StatusCase>& 
     EXPECT_EQ(reply.status, test.status) << test.method << " " << test.target << ": " << reply.body;
     const std::string path = match_path(doc, test.target);
     ASSERT_FALSE(path.empty()) << test.target;
-    const json& responses = doc.at("paths").at(path).at(lower(test.method)).at("responses");
+    const json& responses = doc.at("paths").at(path).at(lowercase(test.method)).at("responses");
     EXPECT_TRUE(responses.contains(std::to_string(reply.status)))
         << test.method << " " << path << " answers " << reply.status << " but does not document it";
   }
@@ -179,7 +179,7 @@ TEST_F(OpenApiTest, EveryEndpointTheTestsUseIsDocumented) {
   for (const auto& [method, target] : used) {
     const std::string path = match_path(doc, target);
     ASSERT_FALSE(path.empty()) << target << " is not documented";
-    EXPECT_TRUE(doc.at("paths").at(path).contains(lower(method)))
+    EXPECT_TRUE(doc.at("paths").at(path).contains(lowercase(method)))
         << method << " " << path << " is not documented";
   }
   // The trajectory format and the stream token are documented parameters.

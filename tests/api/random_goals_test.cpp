@@ -11,9 +11,9 @@ namespace {
 
 constexpr int kGoals = 20;
 constexpr std::uint64_t kSeed = 20240520;
-constexpr double kClearance_m = 0.6;      // from every non-free map cell
-constexpr double kMinTravel_m = 1.0;      // from where the robot stands
-constexpr double kGoalTimeout_s = 120.0;  // robot time per goal
+constexpr double kClearance_m = 0.6;            // from every non-free map cell
+constexpr double kMinTravel_m = 1.0;            // from where the robot stands
+constexpr double kRandomGoalTimeout_s = 120.0;  // robot time per goal
 constexpr double kPositionTolerance_m = 0.10;
 constexpr double kHeadingTolerance_rad = 0.10;
 
@@ -112,7 +112,7 @@ TEST_F(RandomGoalsTest, TwentyRandomReachableGoalsSucceedWithoutCollisions) {
     outcome.post_status = reply.status;
     outcome.post_body = reply.body.substr(0, 300);
     if (reply.status == 201) {
-      outcome.goal = wait_goal_end(viewer(), reply.json().at("id"), kGoalTimeout_s);
+      outcome.goal = wait_goal_end(viewer(), reply.json().at("id"), kRandomGoalTimeout_s);
     }
     outcome.robot_s = robot_time(viewer()) - t0;
     outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();

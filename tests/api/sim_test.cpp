@@ -1,13 +1,12 @@
 // The simulator endpoints: worlds, truth, reset, clock, obstacles, and collisions (2D walls and the
 // 3D gate beam of g2_lobby).
+#include <numbers>
 #include <set>
 
 #include "support/api_test.h"
 
 namespace mobot::testing {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 class SimTest : public ServerSuite<SimTest> {
  protected:
@@ -100,7 +99,7 @@ TEST_F(SimTest, ResetToAnotherWorldSwitchesTheActiveMap) {
   json pose = sim_truth(viewer()).at("pose");
   EXPECT_NEAR(pose.at("x").get<double>(), 0.0, 1e-3);
   EXPECT_NEAR(pose.at("y").get<double>(), 0.0, 1e-3);
-  EXPECT_NEAR(pose.at("theta").get<double>(), kPi / 2, 1e-3);
+  EXPECT_NEAR(pose.at("theta").get<double>(), std::numbers::pi / 2, 1e-3);
   EXPECT_EQ(active_map_name(), "g2_lobby");
   const json event = find_event(viewer(), current_run_id(viewer()), "sim_reset");
   ASSERT_FALSE(event.is_null());
@@ -316,11 +315,11 @@ TEST_F(SimTest, InvalidObstaclesAre400) {
 
 TEST_F(SimTest, DrivingIntoAWallIsACollision) {
   // Facing north in the corridor: the wall at y 8.5 is 0.7 m ahead of the front edge.
-  ASSERT_EQ(
-      operator_client()
-          .post("/api/v1/sim/reset", json{{"pose", {{"x", 2.0}, {"y", 7.5}, {"theta", kPi / 2}}}})
-          .status,
-      200);
+  ASSERT_EQ(operator_client()
+                .post("/api/v1/sim/reset",
+                      json{{"pose", {{"x", 2.0}, {"y", 7.5}, {"theta", std::numbers::pi / 2}}}})
+                .status,
+            200);
   const int collisions0 = sim_truth(viewer()).at("collisions").get<int>();
   const std::int64_t run = current_run_id(viewer());
   drive_for(operator_client(), 0.5, 0.0, 6.0,
@@ -363,12 +362,12 @@ TEST_F(SimTest, GateABeamIsA3DCollisionButGateBIsPassable) {
   EXPECT_LT(truth.at("pose").at("y").get<double>(), 3.0) << truth.dump();
 
   // Gate B (x -2.9..-1.5) has its beam at 1.7 m: the robot passes under it.
-  ASSERT_EQ(
-      operator_client()
-          .post("/api/v1/sim/reset", json{{"world", "g2_lobby"},
-                                          {"pose", {{"x", -2.2}, {"y", 0.0}, {"theta", kPi / 2}}}})
-          .status,
-      200);
+  ASSERT_EQ(operator_client()
+                .post("/api/v1/sim/reset",
+                      json{{"world", "g2_lobby"},
+                           {"pose", {{"x", -2.2}, {"y", 0.0}, {"theta", std::numbers::pi / 2}}}})
+                .status,
+            200);
   collisions0 = sim_truth(viewer()).at("collisions").get<int>();
   drive_for(operator_client(), 0.8, 0.0, 6.5,
             [&] { return sim_truth(viewer()).at("pose").at("y").get<double>() > 4.0; });

@@ -1,14 +1,13 @@
 // The WebSocket stream: hello, subscribe/unsubscribe, every topic in JSON and the bulk ones in the
 // README binary layout, rates (in robot time), thinning, ping, errors that keep the connection,
 // teleop over the stream, authentication, and a slow reader that must not hurt anybody else.
+#include <numbers>
 #include <set>
 
 #include "support/api_test.h"
 
 namespace mobot::testing {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 class StreamTest : public ServerSuite<StreamTest> {
  protected:
@@ -175,8 +174,8 @@ TEST_F(StreamTest, ScanAsBinaryFrames) {
   const auto count = read_le<std::uint32_t>(bytes, body + 28);
   EXPECT_EQ(count, 361U);
   ASSERT_EQ(bytes.size(), body + 32 + 4 * static_cast<std::size_t>(count));
-  EXPECT_NEAR(angle_min, -kPi / 2, 1e-3);
-  EXPECT_NEAR(angle_increment, kPi / 360, 1e-5);
+  EXPECT_NEAR(angle_min, -std::numbers::pi / 2, 1e-3);
+  EXPECT_NEAR(angle_increment, std::numbers::pi / 360, 1e-5);
   EXPECT_NEAR(range_min, 0.4, 1e-5);
   EXPECT_NEAR(range_max, 80.0, 1e-3);
   // The laser sits 0.2 m ahead of the base at (2, 7.5, 0).
@@ -212,7 +211,7 @@ TEST_F(StreamTest, ScanAsJson) {
   }
   ASSERT_TRUE(data.at("ranges").is_array());
   EXPECT_EQ(data.at("ranges").size(), 361U);
-  EXPECT_NEAR(data.at("angle_min").get<double>(), -kPi / 2, 1e-3);
+  EXPECT_NEAR(data.at("angle_min").get<double>(), -std::numbers::pi / 2, 1e-3);
   EXPECT_NEAR(data.at("sensor_pose").at("x").get<double>(), 2.2, 0.05);
   EXPECT_NEAR(data.at("sensor_pose").at("y").get<double>(), 7.5, 0.05);
   EXPECT_TRUE(data.at("sensor_pose").at("theta").is_number());

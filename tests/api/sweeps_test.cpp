@@ -4,13 +4,13 @@
 // (beam above it), and with the 3D layer switched off it takes gate A and hits the low beam.
 #include <cstring>
 #include <fstream>
+#include <numbers>
 
 #include "support/goal_support.h"
 
 namespace mobot::testing {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // g2_lobby (drivers/sim/worlds/g2_lobby): the wall with the gates spans y 3.0..3.3.
 constexpr double kGateWallLow_y = 3.0;
 constexpr double kGateWallHigh_y = 3.3;
@@ -427,7 +427,7 @@ TEST_F(TwoDTrapTest, WithoutThe3DLayerTheRobotTakesGateAAndHitsTheBeam) {
   EXPECT_GE(sim_truth(viewer()).at("collisions").get<int>(), 1);
   EXPECT_LT(sim_truth(viewer()).at("pose").at("y").get<double>(), kGateWallLow_y)
       << "stopped at the beam";
-  (void)kPi;
+  (void)std::numbers::pi;
 }
 
 }  // namespace

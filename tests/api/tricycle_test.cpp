@@ -14,11 +14,11 @@
 namespace mobot::testing {
 namespace {
 
-constexpr int kGoals = 10;
-constexpr double kClearance_m = 3.0;   // from every wall, building and container
-constexpr double kMinTravel_m = 5.0;
-constexpr double kGoalTimeout_s = 200.0;
-constexpr double kPositionTolerance_m = 0.3;  // the profiles' goal tolerance
+constexpr int kYardGoals = 10;
+constexpr double kYardClearance_m = 3.0;  // from every wall, building and container
+constexpr double kYardMinTravel_m = 5.0;
+constexpr double kYardGoalTimeout_s = 200.0;
+constexpr double kYardPositionTolerance_m = 0.3;  // the profiles' goal tolerance
 constexpr double kMaxTurnRate_radps = 0.3;
 constexpr double kMaxSteer_rad = std::numbers::pi / 4;
 
@@ -73,8 +73,8 @@ class TricycleSuite : public ServerSuite<TricycleSuite<kConfig>> {
   static MobotdProcess::Options server_options() {
     MobotdProcess::Options options;
     options.time_scale = 10.0;
-    options.extra_args = {"--config", std::string(MOBOT_SOURCE_ROOT) + "/deploy/config/" +
-                                          kConfig + ".yaml"};
+    options.extra_args = {"--config",
+                          std::string(MOBOT_SOURCE_ROOT) + "/deploy/config/" + kConfig + ".yaml"};
     return options;
   }
 
@@ -92,31 +92,31 @@ class TricycleSuite : public ServerSuite<TricycleSuite<kConfig>> {
     };
     json from = sim_truth(viewer).at("pose");
     int succeeded = 0;
-    for (int i = 0; i < kGoals; ++i) {
+    for (int i = 0; i < kYardGoals; ++i) {
       json target;
       for (int attempt = 0; attempt < 100000; ++attempt) {
         const double x = uniform(map.min_x(), map.max_x());
         const double y = uniform(map.min_y(), map.max_y());
-        if (map.clearance(x, y, kClearance_m) < kClearance_m) continue;
+        if (map.clearance(x, y, kYardClearance_m) < kYardClearance_m) continue;
         target = json{{"x", x}, {"y", y}};
-        if (xy_distance(target, from) > kMinTravel_m) break;
+        if (xy_distance(target, from) > kYardMinTravel_m) break;
       }
       from = target;
       const HttpReply reply = Base::operator_client().post("/api/v1/goals", target);
       ASSERT_EQ(reply.status, 201) << reply.body;
       EXPECT_EQ(reply.json().at("controller"), "pure_pursuit");
-      const json goal = wait_goal_end(viewer, reply.json().at("id"), kGoalTimeout_s);
+      const json goal = wait_goal_end(viewer, reply.json().at("id"), kYardGoalTimeout_s);
       const json truth = sim_truth(viewer);
       const double error = xy_distance(truth.at("pose"), target);
       std::cout << std::fixed << std::setprecision(2) << "[ " << kConfig << " goal " << i + 1
                 << " ] " << pose_text(target) << " -> " << goal.value("status", "?") << " "
-                << goal.value("reason", "") << " truth " << pose_text(truth.at("pose"))
-                << " err " << error << " m, collisions " << truth.at("collisions") << std::endl;
+                << goal.value("reason", "") << " truth " << pose_text(truth.at("pose")) << " err "
+                << error << " m, collisions " << truth.at("collisions") << std::endl;
       EXPECT_EQ(goal.value("status", ""), "succeeded") << goal.dump().substr(0, 300);
-      EXPECT_LT(error, kPositionTolerance_m + 0.05);
+      EXPECT_LT(error, kYardPositionTolerance_m + 0.05);
       if (goal.value("status", "") == "succeeded") ++succeeded;
     }
-    EXPECT_EQ(succeeded, kGoals);
+    EXPECT_EQ(succeeded, kYardGoals);
     EXPECT_EQ(sim_truth(viewer).at("collisions"), 0);
     std::cout << "[ " << kConfig << " ] truth samples " << monitor.samples() << ", max |w| "
               << monitor.max_turn_rate() << " rad/s, max |steering| " << monitor.max_steer()

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/numeric/finite.h"
+
 namespace mobot::estimation {
 namespace {
 
@@ -16,9 +18,6 @@ double hit_term(double distance_m, const BeamLikelihoodOptions& options) {
   return options.z_hit *
          std::exp(-(distance_m * distance_m) / (2.0 * options.sigma_hit_m * options.sigma_hit_m));
 }
-
-bool non_negative(double value) { return value >= 0.0 && std::isfinite(value); }
-bool positive(double value) { return value > 0.0 && std::isfinite(value); }
 
 // Whether the beams within `half_width` of beam i all returned nothing within range_max (a 360
 // deg scan wraps round; past the ends of a narrower one there is no telling).
@@ -82,12 +81,12 @@ double BeamLikelihood::beam_term(double hit_term, double rand_term) const {
 }
 
 void BeamLikelihood::validate(const BeamLikelihoodOptions& options) {
-  if (options.max_beams < 2 || !non_negative(options.z_hit) || !non_negative(options.z_rand) ||
-      !positive(options.sigma_hit_m) || !positive(options.range_max_m) ||
-      !positive(options.product_exponent) || options.product_exponent > 1.0 ||
-      !non_negative(options.no_return_margin_m) || options.max_no_return_beams < 0 ||
-      !non_negative(options.no_return_clearance_rad) || !non_negative(options.no_return_weight) ||
-      options.no_return_weight > 1.0) {
+  if (options.max_beams < 2 || !finite_non_negative(options.z_hit) ||
+      !finite_non_negative(options.z_rand) || !finite_positive(options.sigma_hit_m) ||
+      !finite_positive(options.range_max_m) || !finite_positive(options.product_exponent) ||
+      options.product_exponent > 1.0 || !finite_non_negative(options.no_return_margin_m) ||
+      options.max_no_return_beams < 0 || !finite_non_negative(options.no_return_clearance_rad) ||
+      !finite_non_negative(options.no_return_weight) || options.no_return_weight > 1.0) {
     throw std::invalid_argument("beam likelihood: option out of range");
   }
 }

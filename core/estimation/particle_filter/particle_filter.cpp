@@ -8,27 +8,27 @@
 
 #include "core/estimation/particle_filter/particle_clusters.h"
 #include "core/estimation/particle_filter/pose_moments.h"
+#include "core/numeric/finite.h"
 
 namespace mobot::estimation {
 namespace {
 
-bool non_negative(double value) { return value >= 0.0 && std::isfinite(value); }
-bool positive(double value) { return value > 0.0 && std::isfinite(value); }
-
 void validate(const ParticleFilterOptions& options) {
   BeamLikelihood::validate(options.laser);
-  if (!positive(options.field.max_distance_m) || !non_negative(options.update_min_translation_m) ||
-      !non_negative(options.update_min_rotation_rad) || options.resample_interval < 1 ||
+  if (!finite_positive(options.field.max_distance_m) ||
+      !finite_non_negative(options.update_min_translation_m) ||
+      !finite_non_negative(options.update_min_rotation_rad) || options.resample_interval < 1 ||
       !(options.alpha_slow >= 0.0) || !(options.alpha_slow <= 1.0) ||
       !(options.alpha_fast >= 0.0) || !(options.alpha_fast <= 1.0) ||
       !(options.converged_min_cluster_weight > 0.0) ||
       !(options.converged_min_cluster_weight <= 1.0) ||
-      !positive(options.converged_position_std_m) || !positive(options.converged_heading_std_rad) ||
-      !(options.kidnap_probability >= 0.0) || !(options.kidnap_probability <= 1.0) ||
-      !(options.recovery_min_fraction >= 0.0) || !(options.recovery_min_fraction < 1.0) ||
-      options.converged_min_updates < 1 || options.global_particles < 1 ||
-      !(options.global_search_exponent > 0.0) || !(options.global_search_exponent <= 1.0) ||
-      !non_negative(options.off_map_log_penalty)) {
+      !finite_positive(options.converged_position_std_m) ||
+      !finite_positive(options.converged_heading_std_rad) || !(options.kidnap_probability >= 0.0) ||
+      !(options.kidnap_probability <= 1.0) || !(options.recovery_min_fraction >= 0.0) ||
+      !(options.recovery_min_fraction < 1.0) || options.converged_min_updates < 1 ||
+      options.global_particles < 1 || !(options.global_search_exponent > 0.0) ||
+      !(options.global_search_exponent <= 1.0) ||
+      !finite_non_negative(options.off_map_log_penalty)) {
     throw std::invalid_argument("particle filter: option out of range");
   }
 }

@@ -8,19 +8,11 @@
 
 #include <stdexcept>
 
+#include "support/deadline.h"
+
 namespace mobot::testing {
-namespace {
 
-int remaining_ms(std::chrono::steady_clock::time_point deadline) {
-  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-      deadline - std::chrono::steady_clock::now());
-  return static_cast<int>(std::max<std::int64_t>(0, left.count()));
-}
-
-}  // namespace
-
-CommandResult run_command(const std::vector<std::string>& argv,
-                          std::chrono::milliseconds timeout) {
+CommandResult run_command(const std::vector<std::string>& argv, std::chrono::milliseconds timeout) {
   int out_pipe[2];
   int err_pipe[2];
   if (::pipe(out_pipe) != 0) throw std::runtime_error("pipe failed");

@@ -17,9 +17,11 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
-#include <csignal>
 #include <cerrno>
+#include <csignal>
 #include <random>
+
+#include "support/deadline.h"
 
 namespace mobot::testing {
 
@@ -32,12 +34,6 @@ namespace {
 std::string lower(std::string text) {
   for (auto& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return text;
-}
-
-int remaining_ms(std::chrono::steady_clock::time_point deadline) {
-  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-      deadline - std::chrono::steady_clock::now());
-  return static_cast<int>(std::max<std::int64_t>(0, left.count()));
 }
 
 // Parses "HTTP/1.1 200 OK\r\nName: value\r\n...\r\n\r\n" (without the body).
@@ -460,9 +456,9 @@ std::optional<nlohmann::json> WsClient::read_until(const std::string& name,
     auto frame = read(left);
     if (!frame) return std::nullopt;
     if (!frame->text()) continue;
-    auto json = nlohmann::json::parse(frame->payload, nullptr, false);
-    if (!json.is_object()) continue;
-    if (json.value("op", "") == name || json.value("topic", "") == name) return json;
+    auto message = nlohmann::json::parse(frame->payload, nullptr, false);
+    if (!message.is_object()) continue;
+    if (message.value("op", "") == name || message.value("topic", "") == name) return message;
   }
   return std::nullopt;
 }

@@ -107,12 +107,13 @@ const std::vector<std::string> kInvalid = {
 };
 
 TEST(Utf8Validator, AcceptsKuhnsValidSequences) {
-  for (const auto& text : kValid) EXPECT_TRUE(is_valid_utf8(text)) << testing::PrintToString(text);
+  for (const auto& text : kValid)
+    EXPECT_TRUE(is_valid_utf8(text)) << ::testing::PrintToString(text);
 }
 
 TEST(Utf8Validator, RejectsKuhnsInvalidSequences) {
   for (const auto& text : kInvalid) {
-    EXPECT_FALSE(is_valid_utf8(text)) << testing::PrintToString(text);
+    EXPECT_FALSE(is_valid_utf8(text)) << ::testing::PrintToString(text);
   }
 }
 

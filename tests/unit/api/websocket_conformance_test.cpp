@@ -301,7 +301,7 @@ TEST(WsConformance, Case6_KuhnsInvalidSequencesFail1007) {
         std::string("\xC0\x80"), std::string("\xED\xA0\x80"), std::string("\xED\xBF\xBF"),
         std::string("\xED\xA0\x80\xED\xB0\x80")}) {
     EXPECT_EQ(parse(client_frame(kFin | kText, "a" + bad + "z")).error, kInvalidPayload)
-        << testing::PrintToString(bad);
+        << ::testing::PrintToString(bad);
   }
 }
 
@@ -347,7 +347,7 @@ TEST(WsConformance, Case7_3_ClosePayloadsThatAreValid) {
        {std::string(), close_payload(1000), close_payload(1000, "Hello World!"),
         close_payload(1000, std::string(123, '*')), close_payload(1001, "\xE2\x82\xAC")}) {
     const Parsed parsed = parse(client_frame(kFin | kClose, payload));
-    EXPECT_EQ(parsed.error, 0) << testing::PrintToString(payload);
+    EXPECT_EQ(parsed.error, 0) << ::testing::PrintToString(payload);
     ASSERT_EQ(parsed.messages.size(), 1U);
     EXPECT_EQ(parsed.messages[0].payload, payload);
   }

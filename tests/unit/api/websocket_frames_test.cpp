@@ -2,26 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "client_frames.h"
+
 namespace mobot::api {
 namespace {
 
-std::string client_frame(unsigned first_byte, std::string_view payload,
-                         std::array<unsigned char, 4> mask = {0x11, 0x22, 0x33, 0x44}) {
-  std::string frame;
-  frame.push_back(static_cast<char>(first_byte));
-  if (payload.size() < 126) {
-    frame.push_back(static_cast<char>(0x80U | payload.size()));
-  } else {
-    frame.push_back(static_cast<char>(0x80U | 126U));
-    frame.push_back(static_cast<char>(payload.size() >> 8));
-    frame.push_back(static_cast<char>(payload.size() & 0xFF));
-  }
-  for (auto m : mask) frame.push_back(static_cast<char>(m));
-  for (std::size_t i = 0; i < payload.size(); ++i) {
-    frame.push_back(static_cast<char>(static_cast<unsigned char>(payload[i]) ^ mask[i % 4]));
-  }
-  return frame;
-}
+using test::client_frame;
 
 TEST(WebSocketAcceptKey, MatchesRfc6455Example) {
   EXPECT_EQ(websocket_accept_key("dGhlIHNhbXBsZSBub25jZQ=="), "s3pPLMBiTxaQ9kYGzzhZRbK+xOo=");

@@ -12,7 +12,7 @@
 namespace mobot::server {
 namespace {
 
-std::string error_of(const std::string& text) {
+std::string rule_error_of(const std::string& text) {
   try {
     check_config_rules(parse_config(text, "test.yaml"));
   } catch (const ConfigError& error) {
@@ -33,14 +33,18 @@ TEST(ConfigParser, ReadsTextWithoutAFile) {
 TEST(ConfigParser, KeysThatAreNotNamesAreConfigErrors) {
   // Found with tests/fuzz/config_yaml_fuzz.cpp's target: each ended mobotd with an uncaught
   // YAML::TypedBadConversion.
-  EXPECT_NE(error_of("{[a]: 1}").find("the top level: keys are plain names"), std::string::npos);
-  EXPECT_NE(error_of("robot: {[k]: 1}").find("robot: keys are plain names"), std::string::npos);
-  EXPECT_NE(error_of("sim:\n  odometry:\n    {x: 1}: 2\n").find("sim.odometry"), std::string::npos);
+  EXPECT_NE(rule_error_of("{[a]: 1}").find("the top level: keys are plain names"),
+            std::string::npos);
+  EXPECT_NE(rule_error_of("robot: {[k]: 1}").find("robot: keys are plain names"),
+            std::string::npos);
+  EXPECT_NE(rule_error_of("sim:\n  odometry:\n    {x: 1}: 2\n").find("sim.odometry"),
+            std::string::npos);
 }
 
 TEST(ConfigParser, MalformedYamlNamesTheSource) {
-  EXPECT_EQ(error_of("server: [unclosed").rfind("test.yaml: ", 0), 0U);
-  EXPECT_NE(error_of("- a list").find("expected a mapping at the top level"), std::string::npos);
+  EXPECT_EQ(rule_error_of("server: [unclosed").rfind("test.yaml: ", 0), 0U);
+  EXPECT_NE(rule_error_of("- a list").find("expected a mapping at the top level"),
+            std::string::npos);
 }
 
 TEST(ConfigParser, APluginSectionWithAListAsAKeyIsAConfigError) {
@@ -61,16 +65,19 @@ TEST(ConfigParser, ReadsTheTlsFilesAndRefusesHalfOfThem) {
   EXPECT_FALSE(parse_config("server: {port: 9000}\n", "t").server.tls()) << "no TLS by default";
   EXPECT_FALSE(parse_config("server: {tls: null}\n", "t").server.tls());
 
-  EXPECT_NE(error_of("server: {tls: {cert: a.pem}}").find("server.tls.key: missing"),
+  EXPECT_NE(rule_error_of("server: {tls: {cert: a.pem}}").find("server.tls.key: missing"),
             std::string::npos);
-  EXPECT_NE(error_of("server: {tls: {key: a.key}}").find("server.tls.cert: missing"),
+  EXPECT_NE(rule_error_of("server: {tls: {key: a.key}}").find("server.tls.cert: missing"),
             std::string::npos);
-  EXPECT_EQ(error_of("server: {tls: {cert: a.pem, key: b.key, ca: c.pem}}"),
+  EXPECT_EQ(rule_error_of("server: {tls: {cert: a.pem, key: b.key, ca: c.pem}}"),
             "server.tls.ca: unknown key");
-  EXPECT_EQ(error_of("server: {tls: on}"), "server.tls: expected a mapping {cert: PATH, key: PATH}");
-  EXPECT_EQ(error_of("server: {tls: {cert: [a], key: b}}"), "server.tls.cert: expected a file path");
-  EXPECT_EQ(error_of("server: {tls: {cert: '', key: b}}"), "server.tls.cert: expected a file path");
-  EXPECT_NE(error_of("server: {tls: {[cert]: a}}").find("server.tls: keys are plain names"),
+  EXPECT_EQ(rule_error_of("server: {tls: on}"),
+            "server.tls: expected a mapping {cert: PATH, key: PATH}");
+  EXPECT_EQ(rule_error_of("server: {tls: {cert: [a], key: b}}"),
+            "server.tls.cert: expected a file path");
+  EXPECT_EQ(rule_error_of("server: {tls: {cert: '', key: b}}"),
+            "server.tls.cert: expected a file path");
+  EXPECT_NE(rule_error_of("server: {tls: {[cert]: a}}").find("server.tls: keys are plain names"),
             std::string::npos);
 }
 

@@ -2,31 +2,15 @@
 #include "server/plugins/plugins.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <filesystem>
-#include <fstream>
+
+#include "config_files.h"
 
 namespace mobot::server {
 namespace {
 
-std::filesystem::path write_config(const std::string& text) {
-  static int counter = 0;
-  const auto file =
-      std::filesystem::temp_directory_path() /
-      ("mobot_config_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".yaml");
-  std::ofstream(file) << text;
-  return file;
-}
-
-std::string error_of(const std::string& text) {
-  try {
-    load_config(write_config(text));
-  } catch (const ConfigError& error) {
-    return error.what();
-  }
-  return "<no error>";
-}
+using test::load_error_of;
+using test::write_config;
 
 TEST(Config, TheShippedDefaultLoads) {
   const Config config =
@@ -61,20 +45,20 @@ TEST(Config, ReadsCalibratedOdometryAndTheFusedMeasurementSets) {
   // The EKF plugin reads its own section: compass on, lines and bearings off.
   const auto estimators = configure_plugins(builtin_plugins(), config, {}).estimators;
   EXPECT_EQ(estimators.make("ekf")->method(), "ekf(odometry+compass)");
-  EXPECT_NE(error_of("estimators: {ekf: {fuse: [gps]}}").find("'gps'"), std::string::npos);
-  EXPECT_NE(error_of("localization: {method: magic}").find("localization.method"),
+  EXPECT_NE(load_error_of("estimators: {ekf: {fuse: [gps]}}").find("'gps'"), std::string::npos);
+  EXPECT_NE(load_error_of("localization: {method: magic}").find("localization.method"),
             std::string::npos);
-  EXPECT_NE(error_of("navigation: {max_linear_mps: 5}").find("navigation.max_linear_mps"),
+  EXPECT_NE(load_error_of("navigation: {max_linear_mps: 5}").find("navigation.max_linear_mps"),
             std::string::npos);
 }
 
 TEST(Config, MessagesNameTheKeyAndTheRange) {
-  EXPECT_EQ(error_of("robot: {laser_rate_hz: 100}"),
+  EXPECT_EQ(load_error_of("robot: {laser_rate_hz: 100}"),
             "robot.laser_rate_hz: 100 is outside the allowed range [1, 40]");
-  EXPECT_EQ(error_of("server: {port: lots}"), "server.port: expected an integer");
-  EXPECT_EQ(error_of("sim: {time_scale: 0}"),
+  EXPECT_EQ(load_error_of("server: {port: lots}"), "server.port: expected an integer");
+  EXPECT_EQ(load_error_of("sim: {time_scale: 0}"),
             "sim.time_scale: 0 is outside the allowed range [0.1, 100]");
-  EXPECT_NE(error_of("backend: cloud").find("backend: 'cloud'"), std::string::npos);
+  EXPECT_NE(load_error_of("backend: cloud").find("backend: 'cloud'"), std::string::npos);
 }
 
 // The files themselves are looked at when the config is validated (after the flags): a path that
@@ -82,13 +66,14 @@ TEST(Config, MessagesNameTheKeyAndTheRange) {
 TEST(Config, TlsFilesThatCannotBeReadAreRefusedNamingTheKey) {
   const auto cert = write_config("not really a certificate");
   const auto key = write_config("not really a key");
-  EXPECT_NO_THROW(load_config(write_config("server: {tls: {cert: " + cert.string() +
-                                           ", key: " + key.string() + "}}\n")));
+  EXPECT_NO_THROW(load_config(
+      write_config("server: {tls: {cert: " + cert.string() + ", key: " + key.string() + "}}\n")));
   const std::string missing = "/nonexistent/mobot/key.pem";
-  const std::string message = error_of("server: {tls: {cert: " + cert.string() + ", key: " +
-                                       missing + "}}\n");
+  const std::string message =
+      load_error_of("server: {tls: {cert: " + cert.string() + ", key: " + missing + "}}\n");
   EXPECT_EQ(message.rfind("server.tls.key (--tls-key): cannot read " + missing, 0), 0U) << message;
-  const std::string directory = error_of("server: {tls: {cert: /tmp, key: " + key.string() + "}}");
+  const std::string directory =
+      load_error_of("server: {tls: {cert: /tmp, key: " + key.string() + "}}");
   EXPECT_NE(directory.find("server.tls.cert (--tls-cert): /tmp is a directory"), std::string::npos)
       << directory;
   // The flags go through the same check.
@@ -102,14 +87,14 @@ TEST(Config, TlsFilesThatCannotBeReadAreRefusedNamingTheKey) {
 }
 
 TEST(Config, MisspeltKeysAreRejected) {
-  EXPECT_EQ(error_of("robot: {laser_rate: 20}"), "robot.laser_rate: unknown key");
-  EXPECT_EQ(error_of("robots: {}"), "robots: unknown key");
+  EXPECT_EQ(load_error_of("robot: {laser_rate: 20}"), "robot.laser_rate: unknown key");
+  EXPECT_EQ(load_error_of("robots: {}"), "robots: unknown key");
 }
 
 TEST(Config, TheMuxNeedsSafetyAndTeleop) {
-  EXPECT_NE(error_of("mux: [{name: teleop, priority: 7, timeout_s: 1}]").find("'safety'"),
+  EXPECT_NE(load_error_of("mux: [{name: teleop, priority: 7, timeout_s: 1}]").find("'safety'"),
             std::string::npos);
-  EXPECT_NE(error_of("mux: [{name: teleop}]").find("mux[0]"), std::string::npos);
+  EXPECT_NE(load_error_of("mux: [{name: teleop}]").find("mux[0]"), std::string::npos);
 }
 
 TEST(Config, UnreadableAndMalformedFilesAreReported) {

@@ -1,33 +1,17 @@
 // deploy/config/dashgo_d1.yaml loads as the Dashgo D1 (docs/algorithms.md R2), and the
 // simulator's odometry errors (sim.odometry) are read, checked and passed on.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 
+#include "config_files.h"
 #include "server/config.h"
 
 namespace mobot::server {
 namespace {
 
-std::filesystem::path write_config(const std::string& text) {
-  static int counter = 0;
-  const auto file = std::filesystem::temp_directory_path() /
-                    ("mobot_dashgo_config_" + std::to_string(::getpid()) + "_" +
-                     std::to_string(counter++) + ".yaml");
-  std::ofstream(file) << text;
-  return file;
-}
-
-std::string error_of(const std::string& text) {
-  try {
-    load_config(write_config(text));
-  } catch (const ConfigError& error) {
-    return error.what();
-  }
-  return "<no error>";
-}
+using test::load_error_of;
+using test::write_config;
 
 TEST(DashgoConfig, TheShippedFileLoadsWithTheR2Numbers) {
   const Config config =
@@ -62,16 +46,16 @@ TEST(DashgoConfig, SimOdometryKeysAreOptionalAndUnsetMeansTheProfiles) {
 }
 
 TEST(DashgoConfig, BadSimOdometryNamesTheKey) {
-  EXPECT_EQ(error_of("sim: {odometry: {scale: 0.01}}\n"), "sim.odometry.scale: unknown key");
-  EXPECT_EQ(error_of("sim: {odometry: 0.01}\n"), "sim.odometry: expected a mapping");
-  EXPECT_EQ(error_of("sim: {odometry: {scale_error: lots}}\n"),
+  EXPECT_EQ(load_error_of("sim: {odometry: {scale: 0.01}}\n"), "sim.odometry.scale: unknown key");
+  EXPECT_EQ(load_error_of("sim: {odometry: 0.01}\n"), "sim.odometry: expected a mapping");
+  EXPECT_EQ(load_error_of("sim: {odometry: {scale_error: lots}}\n"),
             "sim.odometry.scale_error: expected a number");
-  EXPECT_NE(error_of("sim: {odometry: {scale_error: 0.5}}\n").find("sim.odometry.scale_error"),
+  EXPECT_NE(load_error_of("sim: {odometry: {scale_error: 0.5}}\n").find("sim.odometry.scale_error"),
             std::string::npos);
-  EXPECT_NE(
-      error_of("sim: {odometry: {step_noise_fraction: -0.1}}\n").find("outside the allowed range"),
-      std::string::npos);
-  EXPECT_NE(error_of("sim: {odometry: {heading_drift_rad_per_m: .nan}}\n")
+  EXPECT_NE(load_error_of("sim: {odometry: {step_noise_fraction: -0.1}}\n")
+                .find("outside the allowed range"),
+            std::string::npos);
+  EXPECT_NE(load_error_of("sim: {odometry: {heading_drift_rad_per_m: .nan}}\n")
                 .find("sim.odometry.heading_drift_rad_per_m"),
             std::string::npos);
 }

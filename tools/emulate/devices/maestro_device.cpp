@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/geometry/pose2d.h"
+#include "core/numeric/finite.h"
 
 namespace mobot::emulate {
 namespace mx = protocol::maestro;
@@ -26,8 +27,6 @@ constexpr double kRangerMaxInches = 254.0;
 constexpr double kRangerVoltsPerInchPerSupplyVolt = 1.0 / 512.0;
 // Rays across the ranger's cone: its nearest echo.
 constexpr int kRangerRays = 5;
-
-bool finite_positive(double value) { return std::isfinite(value) && value > 0.0; }
 
 void check_calibration(const char* axis, const mx::ServoCalibration& servo) {
   if (!finite_positive(servo.centre_us) || !finite_positive(servo.us_per_rad) ||

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/geometry/pose2d.h"
+#include "core/numeric/finite.h"
 
 namespace mobot::emulate {
 namespace mm = protocol::motion_mind;
@@ -37,9 +38,6 @@ void append_le(std::vector<std::uint8_t>& out, std::int64_t value, std::size_t s
     out.push_back(static_cast<std::uint8_t>((bits >> (8 * i)) & 0xFFu));
   }
 }
-
-bool finite_positive(double value) { return std::isfinite(value) && value > 0.0; }
-bool finite_non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 std::array<std::int64_t, mm::kRegisterCount> factory_defaults() {
   std::array<std::int64_t, mm::kRegisterCount> registers{};

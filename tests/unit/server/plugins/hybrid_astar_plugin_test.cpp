@@ -11,7 +11,7 @@
 namespace mobot::server {
 namespace {
 
-std::string error_of(const std::string& yaml, const PluginContext& context = {}) {
+std::string planner_error_of(const std::string& yaml, const PluginContext& context = {}) {
   try {
     hybrid_astar_plugin(YAML::Load(yaml), context);
   } catch (const ConfigError& error) {
@@ -103,15 +103,17 @@ TEST(HybridAStarPlugin, EveryOptionReachesThePlanner) {
 }
 
 TEST(HybridAStarPlugin, RefusesBadOptionsByTheirKey) {
-  EXPECT_NE(error_of("{heading_bins: 2}").find("planners.hybrid_astar.heading_bins"),
+  EXPECT_NE(planner_error_of("{heading_bins: 2}").find("planners.hybrid_astar.heading_bins"),
             std::string::npos);
-  EXPECT_NE(error_of("{min_turning_radius_m: -1}").find("min_turning_radius_m"), std::string::npos);
-  EXPECT_NE(error_of("{turning_radius: 2}").find("planners.hybrid_astar.turning_radius: unknown"),
+  EXPECT_NE(planner_error_of("{min_turning_radius_m: -1}").find("min_turning_radius_m"),
             std::string::npos);
+  EXPECT_NE(
+      planner_error_of("{turning_radius: 2}").find("planners.hybrid_astar.turning_radius: unknown"),
+      std::string::npos);
   // In range alone, but not together: a state cell as long as a step.
-  EXPECT_NE(error_of("{state_cell_m: 1.5}", tricycle()).find("planners.hybrid_astar:"),
+  EXPECT_NE(planner_error_of("{state_cell_m: 1.5}", tricycle()).find("planners.hybrid_astar:"),
             std::string::npos);
-  EXPECT_EQ(error_of("{state_cell_m: 0.2}", tricycle()), "");
+  EXPECT_EQ(planner_error_of("{state_cell_m: 0.2}", tricycle()), "");
 }
 
 }  // namespace

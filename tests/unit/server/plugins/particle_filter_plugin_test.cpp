@@ -11,7 +11,7 @@
 namespace mobot::server {
 namespace {
 
-std::string error_of(const std::string& yaml) {
+std::string filter_error_of(const std::string& yaml) {
   try {
     particle_filter_plugin(YAML::Load(yaml), {});
   } catch (const ConfigError& error) {
@@ -161,10 +161,10 @@ TEST(ParticleFilterPlugin, RefusesBadOptionsNamingTheKey) {
       {"[1, 2]", "estimators.particle_filter: expected a mapping"},
   };
   for (const auto& [yaml, key] : bad) {
-    const std::string message = error_of(yaml);
+    const std::string message = filter_error_of(yaml);
     EXPECT_NE(message.find(key), std::string::npos) << yaml << " -> '" << message << "'";
   }
-  EXPECT_EQ(error_of("{min_particles: 100, max_particles: 100}"), "");
+  EXPECT_EQ(filter_error_of("{min_particles: 100, max_particles: 100}"), "");
 }
 
 }  // namespace

@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kDt = 0.02;  // the server's 50 Hz tick
 
-server::PluginContext context() {
+server::PluginContext contract_context() {
   server::PluginContext context;
   context.limits.max_linear_mps = 1.0;
   context.limits.max_angular_radps = 1.5;
@@ -26,7 +26,8 @@ server::PluginContext context() {
 
 const server::PluginSet<PathTracker>& trackers() {
   static const server::Plugins plugins = server::builtin_plugins();
-  static const server::PluginSet<PathTracker> configured(plugins.trackers, YAML::Node(), context());
+  static const server::PluginSet<PathTracker> configured(plugins.trackers, YAML::Node(),
+                                                         contract_context());
   return configured;
 }
 
@@ -58,17 +59,18 @@ TEST_P(PathTrackerContract, FollowsAPathToItsEndWithinTheLimitsAndTheGoalHeading
   for (; t < 60.0 && !tracker->arrived(); t += kDt) {
     const msgs::Twist u = tracker->compute(pose, velocity, t);
     ASSERT_TRUE(std::isfinite(u.linear_mps) && std::isfinite(u.angular_radps));
-    EXPECT_LE(std::abs(u.linear_mps), context().navigation.max_linear_mps + 1e-9);
-    EXPECT_LE(std::abs(u.angular_radps), context().limits.max_angular_radps + 1e-9);
+    EXPECT_LE(std::abs(u.linear_mps), contract_context().navigation.max_linear_mps + 1e-9);
+    EXPECT_LE(std::abs(u.angular_radps), contract_context().limits.max_angular_radps + 1e-9);
     pose.x += u.linear_mps * std::cos(pose.theta) * kDt;
     pose.y += u.linear_mps * std::sin(pose.theta) * kDt;
     pose.theta = geometry::wrap_angle(pose.theta + u.angular_radps * kDt);
     velocity = u;
   }
   ASSERT_TRUE(tracker->arrived()) << GetParam() << " did not arrive in 60 s";
-  EXPECT_LT(std::hypot(pose.x - 2.0, pose.y - 2.0), context().navigation.goal_tolerance_m + 0.02);
+  EXPECT_LT(std::hypot(pose.x - 2.0, pose.y - 2.0),
+            contract_context().navigation.goal_tolerance_m + 0.02);
   EXPECT_LT(std::abs(geometry::wrap_angle(pose.theta - std::numbers::pi / 2)),
-            context().navigation.goal_tolerance_rad + 0.02);
+            contract_context().navigation.goal_tolerance_rad + 0.02);
   EXPECT_EQ(tracker->compute(pose, velocity, t), msgs::Twist{}) << "arrived: commands are zero";
 }
 

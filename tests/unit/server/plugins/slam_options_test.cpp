@@ -11,7 +11,7 @@
 namespace mobot::server {
 namespace {
 
-std::string error_of(const std::string& yaml) {
+std::string slam_error_of(const std::string& yaml) {
   try {
     read_slam_options(YAML::Load(yaml));
   } catch (const ConfigError& error) {
@@ -71,22 +71,24 @@ TEST(SlamOptions, TheMapMayBeDrawnWithAShorterRangeThanTheMatcherUses) {
       read_slam_options(YAML::Load("slam: {max_range_m: 15.5, map_max_range_m: 8.0}"));
   EXPECT_EQ(options.slam.max_range_m, 15.5);
   EXPECT_EQ(options.render.max_range_m, 8.0);
-  EXPECT_NE(error_of("slam: {map_max_range_m: 0}").find("slam.map_max_range_m"),
+  EXPECT_NE(slam_error_of("slam: {map_max_range_m: 0}").find("slam.map_max_range_m"),
             std::string::npos);
-  EXPECT_NE(error_of("slam: {local_map_spacing_m: -1}").find("slam.local_map_spacing_m"),
+  EXPECT_NE(slam_error_of("slam: {local_map_spacing_m: -1}").find("slam.local_map_spacing_m"),
             std::string::npos);
 }
 
 TEST(SlamOptions, ABadValueIsRefusedWithItsKey) {
-  EXPECT_NE(error_of("slam: {max_range_m: 0.5}").find("slam.max_range_m"), std::string::npos);
-  EXPECT_NE(error_of("slam: {match_covariance_scale: 0}").find("slam.match_covariance_scale"),
+  EXPECT_NE(slam_error_of("slam: {max_range_m: 0.5}").find("slam.max_range_m"), std::string::npos);
+  EXPECT_NE(slam_error_of("slam: {match_covariance_scale: 0}").find("slam.match_covariance_scale"),
             std::string::npos);
-  EXPECT_NE(error_of("slam: {odom_rotation_sigma_per_m: .nan}").find("slam.odom_rotation_sigma"),
+  EXPECT_NE(
+      slam_error_of("slam: {odom_rotation_sigma_per_m: .nan}").find("slam.odom_rotation_sigma"),
+      std::string::npos);
+  EXPECT_NE(slam_error_of("slam: {resolution_m: fine}").find("slam.resolution_m"),
             std::string::npos);
-  EXPECT_NE(error_of("slam: {resolution_m: fine}").find("slam.resolution_m"), std::string::npos);
-  EXPECT_NE(error_of("slam: {submap_size: 3}").find("slam.submap_size"), std::string::npos)
+  EXPECT_NE(slam_error_of("slam: {submap_size: 3}").find("slam.submap_size"), std::string::npos)
       << "an unknown key is refused";
-  EXPECT_EQ(error_of("slam: {max_range_m: 8.0}"), "");
+  EXPECT_EQ(slam_error_of("slam: {max_range_m: 8.0}"), "");
 }
 
 }  // namespace
