@@ -92,20 +92,23 @@ std::string ClientRegistry::metrics_text() const {
     const std::string labels = label("client", std::to_string(client.id)) + "," +
                                label("label", client.caller ? client.caller->label : "") + "," +
                                label("address", client.address);
-    if (client.rtt_ms) append_sample(rtt, "mobot_stream_client_rtt_seconds", *client.rtt_ms / 1e3,
-                                     labels);
+    if (client.rtt_ms)
+      append_sample(rtt, "mobot_stream_client_rtt_seconds", *client.rtt_ms / 1e3, labels);
     append_sample(sent, "mobot_stream_client_bytes_sent_total",
                   static_cast<double>(client.bytes_sent), labels);
     append_sample(dropped, "mobot_stream_client_frames_dropped_total",
                   static_cast<double>(client.dropped), labels);
   }
   std::string out;
-  out += "# HELP mobot_stream_client_rtt_seconds A stream's round trip, from its last timed ping.\n"
-         "# TYPE mobot_stream_client_rtt_seconds gauge\n" + rtt;
-  out += "# HELP mobot_stream_client_bytes_sent_total Bytes written to a stream.\n"
-         "# TYPE mobot_stream_client_bytes_sent_total counter\n" + sent;
-  out += "# HELP mobot_stream_client_frames_dropped_total Frames dropped for a stream that read "
-         "too slowly.\n# TYPE mobot_stream_client_frames_dropped_total counter\n" + dropped;
+  append_family(out, "mobot_stream_client_rtt_seconds", "gauge",
+                "A stream's round trip, from its last timed ping.");
+  out += rtt;
+  append_family(out, "mobot_stream_client_bytes_sent_total", "counter",
+                "Bytes written to a stream.");
+  out += sent;
+  append_family(out, "mobot_stream_client_frames_dropped_total", "counter",
+                "Frames dropped for a stream that read too slowly.");
+  out += dropped;
   return out;
 }
 

@@ -45,8 +45,8 @@ std::string prometheus_number(double value) {
   return text;
 }
 
-void append_metric(std::string& out, std::string_view name, std::string_view type,
-                   std::string_view help, double value, std::string_view labels) {
+void append_family(std::string& out, std::string_view name, std::string_view type,
+                   std::string_view help) {
   out += "# HELP ";
   out.append(name);
   out += ' ';
@@ -56,6 +56,11 @@ void append_metric(std::string& out, std::string_view name, std::string_view typ
   out += ' ';
   out.append(type);
   out += '\n';
+}
+
+void append_metric(std::string& out, std::string_view name, std::string_view type,
+                   std::string_view help, double value, std::string_view labels) {
+  append_family(out, name, type, help);
   append_sample(out, name, value, labels);
 }
 

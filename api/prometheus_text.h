@@ -5,6 +5,9 @@
 
 namespace mobot::api {
 
+// Appends a metric's HELP and TYPE lines, for samples appended after them (append_sample).
+void append_family(std::string& out, std::string_view name, std::string_view type,
+                   std::string_view help);
 // Appends one metric in the Prometheus text exposition format: its HELP and TYPE lines and the
 // sample. `labels` is empty or the inside of the braces, e.g. sensor="laser".
 void append_metric(std::string& out, std::string_view name, std::string_view type,

@@ -7,6 +7,7 @@
 #include "api/frame_codec.h"
 #include "api/json_request.h"
 #include "api/openapi_document.h"
+#include "api/prometheus_text.h"
 
 namespace mobot::api {
 namespace {
@@ -167,14 +168,12 @@ Handled RestApi::teleop(const Request& request, const Replier& reply) {
   ports_.control.teleop(
       command.twist, command.ttl_ms,
       undo_if_refused(lock, audit_drive(lock.after.claimant, command.ttl_ms,
-                                        reply.completion<msgs::Twist>([](const Request& head,
-                                                                         const msgs::Twist&
-                                                                             applied) {
-                                          return json_response(
-                                              head, http::status::ok,
-                                              {{"v", applied.linear_mps},
-                                               {"w", applied.angular_radps}});
-                                        }))));
+                                        reply.completion<msgs::Twist>(
+                                            [](const Request& head, const msgs::Twist& applied) {
+                                              return json_response(head, http::status::ok,
+                                                                   {{"v", applied.linear_mps},
+                                                                    {"w", applied.angular_radps}});
+                                            }))));
   return kReplyLater;
 }
 
@@ -193,11 +192,11 @@ Response RestApi::metrics(const Request& request) const {
 
 std::string RestApi::metrics_text() const {
   std::string out;
-  out += "# HELP mobot_http_responses_total HTTP responses by status class.\n";
-  out += "# TYPE mobot_http_responses_total counter\n";
+  append_family(out, "mobot_http_responses_total", "counter", "HTTP responses by status class.");
   for (std::size_t status_class = 1; status_class <= 5; ++status_class) {
-    out += "mobot_http_responses_total{code=\"" + std::to_string(status_class) + "xx\"} " +
-           std::to_string(responses_by_class_[status_class].load()) + "\n";
+    append_sample(out, "mobot_http_responses_total",
+                  static_cast<double>(responses_by_class_[status_class].load()),
+                  "code=\"" + std::to_string(status_class) + "xx\"");
   }
   return out;
 }

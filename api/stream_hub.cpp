@@ -7,8 +7,8 @@
 
 #include "api/goal_json.h"
 #include "api/prometheus_text.h"
-#include "api/wall_clock.h"
 #include "api/stream_session.h"
+#include "api/wall_clock.h"
 #include "api/websocket_frames.h"
 
 namespace mobot::api {
@@ -428,8 +428,7 @@ void StreamHub::close_all() {
   for (const auto& session : *sessions) session->close(1001, "server shutting down");
 }
 
-void StreamHub::close_inactive_tokens(
-    const std::function<bool(std::int64_t token_id)>& is_active) {
+void StreamHub::close_inactive_tokens(const std::function<bool(std::int64_t token_id)>& is_active) {
   std::shared_ptr<const SessionList> sessions;
   {
     std::lock_guard lock(mutex_);
@@ -454,9 +453,8 @@ void StreamHub::note_frame_age(TopicId topic, double age_s) {
 }
 
 void StreamHub::append_frame_ages(std::string& out) const {
-  out += "# HELP mobot_stream_frame_age_seconds How old a frame was, since it was published, when "
-         "a client's socket took it.\n";
-  out += "# TYPE mobot_stream_frame_age_seconds histogram\n";
+  append_family(out, "mobot_stream_frame_age_seconds", "histogram",
+                "How old a frame was, since it was published, when a client's socket took it.");
   for (const TopicSpec& spec : kTopics) {
     const AgeHistogram& histogram = frame_ages_[topic_index(spec.id)];
     std::array<std::uint64_t, kAgeBounds_s.size() + 1> bins{};
@@ -491,31 +489,23 @@ std::string StreamHub::metrics_text() const {
     clients = sessions_->size();
   }
   std::string out;
-  out += "# HELP mobot_stream_clients WebSocket stream sessions open now.\n";
-  out += "# TYPE mobot_stream_clients gauge\n";
-  out += "mobot_stream_clients " + std::to_string(clients) + "\n";
-  out += "# HELP mobot_stream_sessions_total WebSocket stream sessions opened.\n";
-  out += "# TYPE mobot_stream_sessions_total counter\n";
-  out += "mobot_stream_sessions_total " + std::to_string(sessions_opened_.load()) + "\n";
-  out += "# HELP mobot_stream_frames_sent_total Frames written to stream clients.\n";
-  out += "# TYPE mobot_stream_frames_sent_total counter\n";
-  out += "mobot_stream_frames_sent_total " + std::to_string(frames_sent_.load()) + "\n";
-  out += "# HELP mobot_stream_bytes_sent_total Bytes written to stream clients.\n";
-  out += "# TYPE mobot_stream_bytes_sent_total counter\n";
-  out += "mobot_stream_bytes_sent_total " + std::to_string(bytes_sent_.load()) + "\n";
-  out +=
-      "# HELP mobot_stream_frames_dropped_total Frames dropped for clients that read too slowly.\n";
-  out += "# TYPE mobot_stream_frames_dropped_total counter\n";
-  out += "mobot_stream_frames_dropped_total " + std::to_string(frames_dropped_.load()) + "\n";
-  out +=
-      "# HELP mobot_stream_messages_rate_limited_total Client messages dropped for coming faster "
-      "than the rate limit.\n";
-  out += "# TYPE mobot_stream_messages_rate_limited_total counter\n";
-  out += "mobot_stream_messages_rate_limited_total " +
-         std::to_string(messages_rate_limited_.load()) + "\n";
-  out += "# HELP mobot_stream_frames_thinned_total Frames left out for a client's max_kbps.\n";
-  out += "# TYPE mobot_stream_frames_thinned_total counter\n";
-  out += "mobot_stream_frames_thinned_total " + std::to_string(frames_thinned_.load()) + "\n";
+  append_metric(out, "mobot_stream_clients", "gauge", "WebSocket stream sessions open now.",
+                static_cast<double>(clients));
+  append_metric(out, "mobot_stream_sessions_total", "counter", "WebSocket stream sessions opened.",
+                static_cast<double>(sessions_opened_.load()));
+  append_metric(out, "mobot_stream_frames_sent_total", "counter",
+                "Frames written to stream clients.", static_cast<double>(frames_sent_.load()));
+  append_metric(out, "mobot_stream_bytes_sent_total", "counter", "Bytes written to stream clients.",
+                static_cast<double>(bytes_sent_.load()));
+  append_metric(out, "mobot_stream_frames_dropped_total", "counter",
+                "Frames dropped for clients that read too slowly.",
+                static_cast<double>(frames_dropped_.load()));
+  append_metric(out, "mobot_stream_messages_rate_limited_total", "counter",
+                "Client messages dropped for coming faster than the rate limit.",
+                static_cast<double>(messages_rate_limited_.load()));
+  append_metric(out, "mobot_stream_frames_thinned_total", "counter",
+                "Frames left out for a client's max_kbps.",
+                static_cast<double>(frames_thinned_.load()));
   append_frame_ages(out);
   out += clients_.metrics_text();
   return out;

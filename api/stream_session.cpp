@@ -111,15 +111,12 @@ void StreamSession::take_locked(TopicId topic, const SharedFrame& frame) {
   }
   subscription.last_sent_wall_us = frame.wall_us;
   auto& queue = topic_queues_[i];
-  auto& stamps = topic_stamps_[i];
   if (queue.size() >= hub_.options().max_frames_per_topic) {
     queue.erase(queue.begin());
-    stamps.erase(stamps.begin());
     hub_.count_dropped();
     if (ClientRecord* record = peer_.registration.record().get()) record->add_dropped();
   }
-  queue.push_back(bytes);
-  stamps.push_back(frame.wall_us);
+  queue.push_back({bytes, frame.wall_us});
 }
 
 void StreamSession::close(std::uint16_t code, std::string reason) {
@@ -132,7 +129,6 @@ void StreamSession::queue_close(std::string frame) {
     if (closing_) return;
     // Nothing may follow the close frame, and queued data frames would otherwise go after it.
     for (auto& queue : topic_queues_) queue.clear();
-    for (auto& stamps : topic_stamps_) stamps.clear();
     control_queue_.push_back(std::make_shared<const std::string>(std::move(frame)));
     closing_ = true;
   }
@@ -196,7 +192,8 @@ StreamSession::Clock::time_point StreamSession::next_check() const {
                                    std::max(last_heard_, last_ping_) + ping_interval);
   }
   const Clock::duration round_trip = round_trip_ping_interval();
-  if (round_trip > Clock::duration::zero()) next = std::min(next, last_round_trip_ping_ + round_trip);
+  if (round_trip > Clock::duration::zero())
+    next = std::min(next, last_round_trip_ping_ + round_trip);
   if (watching_lease_) next = std::min(next, lease_.until());
   return next;
 }
@@ -247,7 +244,8 @@ void StreamSession::ping_for_round_trip(Clock::time_point now) {
   const auto sent_us = static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count());
   std::string payload(8, '\0');
-  for (int i = 0; i < 8; ++i) payload[static_cast<std::size_t>(i)] = static_cast<char>(sent_us >> (56 - 8 * i));
+  for (int i = 0; i < 8; ++i)
+    payload[static_cast<std::size_t>(i)] = static_cast<char>(sent_us >> (56 - 8 * i));
   queue_control(std::make_shared<const std::string>(encode_ws_frame(WsOpcode::kPing, payload)));
 }
 
@@ -273,10 +271,10 @@ bool StreamSession::within_rate(const WsMessage& message) {
   hub_.count_rate_limited();
   if (now - last_rate_notice_ >= std::chrono::seconds(1)) {
     last_rate_notice_ = now;
-    reply_error("rate_limited", "more than " +
-                                    std::to_string(static_cast<int>(
-                                        hub_.options().client_messages_per_s)) +
-                                    " messages a second: messages are dropped");
+    reply_error("rate_limited",
+                "more than " +
+                    std::to_string(static_cast<int>(hub_.options().client_messages_per_s)) +
+                    " messages a second: messages are dropped");
   }
   // A short text may be an e-stop, which goes whatever the rate; anything else is dropped unread.
   return message.opcode == WsOpcode::kText && message.payload.size() <= kLargestEstopBytes;
@@ -392,7 +390,6 @@ void StreamSession::carry_out(const UnsubscribeRequest& request) {
     release_locked(*topic, subscription);
     subscription = {};
     topic_queues_[topic_index(*topic)].clear();
-    topic_stamps_[topic_index(*topic)].clear();
     removed.push_back(name);
   }
   note_topics();
@@ -412,9 +409,9 @@ void StreamSession::note_topics() {
   record->set_topics(std::move(names));
 }
 
-void StreamSession::count_sent(std::size_t frames, std::size_t bytes, bool complete) {
+void StreamSession::count_sent(std::size_t frames, std::size_t bytes) {
   hub_.count_sent(frames, bytes);
-  if (complete && !in_flight_stamps_.empty()) {
+  if (!in_flight_stamps_.empty()) {
     const std::int64_t now_us = wall_clock_us();
     for (const auto& [topic, wall_us] : in_flight_stamps_) {
       hub_.note_frame_age(topic, static_cast<double>(now_us - wall_us) * 1e-6);
@@ -557,11 +554,11 @@ bool StreamSession::gather_locked() {
     for (const TopicSpec& spec : kTopics) {
       if (static_cast<std::size_t>(spec.priority) != priority) continue;
       auto& queue = topic_queues_[topic_index(spec.id)];
-      for (auto& frame : queue) in_flight_.push_back(std::move(frame));
+      for (auto& frame : queue) {
+        in_flight_.push_back(std::move(frame.bytes));
+        in_flight_stamps_.emplace_back(spec.id, frame.wall_us);
+      }
       queue.clear();
-      auto& stamps = topic_stamps_[topic_index(spec.id)];
-      for (const std::int64_t wall_us : stamps) in_flight_stamps_.emplace_back(spec.id, wall_us);
-      stamps.clear();
     }
   }
   buffers_.clear();
@@ -619,7 +616,7 @@ void StreamSession::write_locked(std::unique_lock<std::mutex>& lock) {
                         [self = shared_from_this(), written] { self->write_rest(written); });
       return;
     }
-    count_sent(in_flight_.size(), written, true);
+    count_sent(in_flight_.size(), written);
     writing_ = false;
     in_flight_.clear();
     in_flight_stamps_.clear();
@@ -643,7 +640,7 @@ void StreamSession::write_rest(std::size_t written) {
 }
 
 void StreamSession::on_written(boost::system::error_code error, std::size_t bytes) {
-  if (!error) count_sent(in_flight_.size(), bytes, true);
+  if (!error) count_sent(in_flight_.size(), bytes);
   {
     std::lock_guard lock(mutex_);
     writing_ = false;
@@ -664,7 +661,6 @@ void StreamSession::shut_down() {
     closed_ = true;
     closing_ = true;
     for (auto& queue : topic_queues_) queue.clear();
-    for (auto& stamps : topic_stamps_) stamps.clear();
     control_queue_.clear();
   }
   hub_.detach(this);

@@ -100,8 +100,8 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   Claimant claimant() const;
   // The subscribed topics, for GET /api/v1/clients.
   void note_topics();
-  // A write is done: `bytes` of `frames` went, all of in_flight_ when `complete`.
-  void count_sent(std::size_t frames, std::size_t bytes, bool complete);
+  // A write of all of in_flight_ is done: `frames` frames, `bytes` bytes.
+  void count_sent(std::size_t frames, std::size_t bytes);
   void reply(const nlohmann::json& message);
   void reply_error(const std::string& code, const std::string& message);
   void queue_control(std::shared_ptr<const std::string> frame);
@@ -141,11 +141,14 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
 
   std::mutex mutex_;  // guards the subscription and outgoing state below
   std::array<Subscription, kTopicCount> subscriptions_{};
-  // A few frames each (max_frames_per_topic): vectors keep their storage from tick to tick.
-  std::array<std::vector<std::shared_ptr<const std::string>>, kTopicCount> topic_queues_{};
-  // When each queued frame was published (wall_us), beside topic_queues_: how old it is when the
+  // A topic frame waiting for the socket, with when it was published: how old it is when the
   // socket takes it (mobot_stream_frame_age_seconds).
-  std::array<std::vector<std::int64_t>, kTopicCount> topic_stamps_{};
+  struct QueuedFrame {
+    std::shared_ptr<const std::string> bytes;
+    std::int64_t wall_us = 0;
+  };
+  // A few frames each (max_frames_per_topic): vectors keep their storage from tick to tick.
+  std::array<std::vector<QueuedFrame>, kTopicCount> topic_queues_{};
   std::deque<std::shared_ptr<const std::string>> control_queue_;
   ByteBudget budget_;  // the client's max_kbps
   // Owned by whoever set writing_: the frames being written and their buffers.
