@@ -502,12 +502,7 @@ void StreamSession::carry_out(const EstopRequest& request) {
           }
           return;
         }
-        CommandRecord record;
-        record.command = "estop";
-        record.via = "stream";
-        record.caller = who.caller;
-        record.address = who.address;
-        record.client_id = who.client_id;
+        CommandRecord record = command_record(who, "estop");
         record.request_json = nlohmann::json{{"engaged", engaged}}.dump();
         audit->record_command(std::move(record), [weak, state = result.value()](Result<Done>) {
           const auto self = weak.lock();

@@ -8,6 +8,9 @@
 
 namespace mobot::api {
 
+// A command of `who` as the audit trail keeps it: who sent it, from where, over which channel.
+CommandRecord command_record(const Claimant& who, std::string command);
+
 // The audit trail keeps the start and the stop of a client's drive (TeleopLease), not each of its
 // commands: a joystick sends twenty a second. Neither is waited for: a drive's commands are not
 // held back for the disk, and the control loop records each lapse of a lease itself.
