@@ -13,7 +13,7 @@
 //     stream draws again; with 150 ms added each way teleop still drives and the plot's round
 //     trips are >= 300 ms (the e-stop is acknowledged on the stream too); a WebSocket close with
 //     4401 (what mobotd sends for a revoked or expired token) shows the login view with the reason
-//     and nothing reconnects.
+//     and nothing reconnects; a real token revoked by an admin shows that view within 1 s.
 
 import { startLinkProxy } from './link_proxy.mjs';
 import { restProbe } from './rest_probe.mjs';
@@ -259,6 +259,27 @@ export async function linkSteps(t) {
       if (kept.session || kept.local) throw new Error(`the revoked token is still kept: ${JSON.stringify(kept)}`);
       await screenshot(viaProxy, 'login-revoked.png');
       return `"${message}"; no reconnection in 1 s, token forgotten`;
+    });
+
+    await step('a token an admin revokes (DELETE /api/v1/tokens/{id}) closes its page\'s stream at once: the login view says why', async () => {
+      const revoked = await t.rest(t.base(), t.token, 'POST', '/api/v1/tokens', { role: 'viewer', label: 'web revoked' });
+      const p = await newPage('revoked');
+      await p.goto(`${t.base()}/`, { waitUntil: 'domcontentloaded' });
+      await p.waitForSelector('[data-testid=login]', { state: 'visible', timeout: 5000 });
+      await signInWith(p, revoked.token);
+      await p.waitForFunction(() => window.__mobot.connected && window.__mobot.session.role === 'viewer', null, { timeout: 8000 });
+      const started = Date.now();
+      const reply = await restProbe(t.base(), t.token, 'DELETE', `/api/v1/tokens/${revoked.id}`);
+      if (reply.status !== 204) throw new Error(`the revocation was answered ${reply.status} ${reply.text}`);
+      await p.waitForSelector('[data-testid=login]', { state: 'visible', timeout: 1000 });
+      const elapsedMs = Date.now() - started;
+      const message = (await p.textContent('[data-testid=auth-error]')).trim();
+      if (!/Your token was revoked or has expired/.test(message)) throw new Error(`the login view says "${message}"`);
+      const state = await p.evaluate(() => ({ connection: window.__mobot.connection, session: window.__mobot.session }));
+      if (state.connection !== 'auth_error' || state.session.signedIn) throw new Error(`after the revocation the page has ${JSON.stringify(state)}`);
+      const kept = await storage(p);
+      if (kept.session || kept.local) throw new Error(`the revoked token is still kept: ${JSON.stringify(kept)}`);
+      return `login view ${elapsedMs} ms after the DELETE: "${message}"`;
     });
   } finally {
     for (const context of contexts) await context.close().catch(() => {});
