@@ -84,7 +84,7 @@ void HttpSession::on_header(boost::beast::error_code error) {
     return;
   }
   if (error) {
-    close();
+    answer_read_error(error);
     return;
   }
   const auto& header = parser_->get();
@@ -103,6 +103,19 @@ void HttpSession::on_header(boost::beast::error_code error) {
                    });
 }
 
+// A client that went away or took too long is not answered; bytes that are not HTTP are
+// (RFC 9112 section 3: a request line or header that does not parse gets a 400).
+void HttpSession::answer_read_error(boost::beast::error_code error) {
+  if (error == http::error::end_of_stream || error == boost::beast::error::timeout ||
+      error == boost::asio::error::connection_reset || error == boost::asio::error::eof ||
+      error == boost::asio::error::operation_aborted) {
+    close();
+    return;
+  }
+  Request bare;
+  send(error_response(bare, 400, "bad_request", error.message()), true);
+}
+
 void HttpSession::on_body(boost::beast::error_code error) {
   if (error == http::error::body_limit) {
     Request bare;
@@ -110,13 +123,7 @@ void HttpSession::on_body(boost::beast::error_code error) {
     return;
   }
   if (error) {
-    if (error != http::error::end_of_stream && error != boost::beast::error::timeout &&
-        error != boost::asio::error::connection_reset && error != boost::asio::error::eof) {
-      Request bare;
-      send(error_response(bare, 400, "bad_request", error.message()), true);
-      return;
-    }
-    close();
+    answer_read_error(error);
     return;
   }
   Request request = parser_->release();

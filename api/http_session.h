@@ -40,6 +40,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void read_header();
   void on_header(boost::beast::error_code error);
   void on_body(boost::beast::error_code error);
+  void answer_read_error(boost::beast::error_code error);
   void answer(const Request& request);
   // 429 for a request over the connection's rate; false when it may be answered.
   bool refused_for_rate(const Request& request);

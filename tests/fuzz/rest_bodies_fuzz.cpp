@@ -6,8 +6,8 @@
 // the fakes accepted, the tokens made and the operator lock's holder are as they were. A static
 // file is only ever one of the dashboard's.
 //
-// An input is records separated by NUL bytes, each: a flags byte (method, token, the fakes
-// refusing everything, which connection), the target, '\n', the body.
+// The input format is rest_fuzz_input.h's, which the API test that replays the corpus against a
+// real mobotd reads too.
 #include <unistd.h>
 #include <array>
 #include <chrono>
@@ -23,27 +23,16 @@
 #include "api/rest_api.h"
 #include "api/stream_hub.h"
 #include "fake_ports.h"
+#include "rest_fuzz_input.h"
 
 namespace {
 
 using namespace mobot::api;
+namespace fuzz = mobot::fuzz;
 
 void check(bool condition) {
   if (!condition) __builtin_trap();
 }
-
-constexpr std::array<http::verb, 8> kMethods{
-    http::verb::get,   http::verb::post, http::verb::put,     http::verb::delete_,
-    http::verb::patch, http::verb::head, http::verb::options, http::verb::post};
-constexpr std::array<std::string_view, 8> kAuthorization{"",
-                                                         "Bearer viewer",
-                                                         "Bearer operator",
-                                                         "Bearer admin",
-                                                         "bearer operator2",
-                                                         "Bearer nobody",
-                                                         "Bearer",
-                                                         "Basic b3BlcmF0b3I="};
-constexpr std::size_t kMaxRecords = 4;
 
 // The dashboard: two files in a directory of their own.
 struct WebDir {
@@ -83,17 +72,14 @@ Snapshot snapshot(test::FakePorts& robot, StreamHub& hub) {
   return state;
 }
 
-Request make_request(std::uint8_t flags, std::string_view record) {
-  const std::size_t line_end = record.find('\n');
-  const std::string_view target = record.substr(0, line_end);
-  const std::string_view body =
-      line_end == std::string_view::npos ? std::string_view{} : record.substr(line_end + 1);
-  Request request{kMethods[flags & 0x7U], target, 11};
-  if (const auto authorization = kAuthorization[(flags >> 3) & 0x7U]; !authorization.empty()) {
-    request.set(http::field::authorization, authorization);
+Request make_request(const fuzz::RestFuzzRecord& record) {
+  Request request{http::string_to_verb(record.method()), record.target, 11};
+  if (const auto& credential = record.credential(); !credential.empty()) {
+    request.set(http::field::authorization,
+                std::string(credential.scheme) + std::string(credential.name));
   }
   request.set(http::field::content_type, "application/json");
-  request.body() = body;
+  request.body() = record.body;
   request.prepare_payload();
   return request;
 }
@@ -106,16 +92,12 @@ void check_static(const Request& request, const Response& response) {
   check(request.method() == http::verb::head || body == web_dir().index || body == web_dir().asset);
 }
 
-void run_one(RestApi& rest, test::FakePorts& robot, StreamHub& hub, std::uint8_t flags,
-             std::string_view record) {
-  // Beast's parser only hands on targets of visible characters (RFC 9112 3.2).
-  const std::string_view target = record.substr(0, record.find('\n'));
-  for (const char c : target) {
-    if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7F) return;
-  }
-  const Request request = make_request(flags, record);
+void run_one(RestApi& rest, test::FakePorts& robot, StreamHub& hub,
+             const fuzz::RestFuzzRecord& record) {
+  if (!record.target_reaches_router()) return;
+  const Request request = make_request(record);
   // What a request may see of the fakes: all refusing, or all accepting.
-  if ((flags & 0x40U) != 0) {
+  if (record.fakes_refuse()) {
     robot.answers.refusal = DomainError{ErrorKind::kConflict, "refused", "the fake refuses"};
   } else {
     robot.answers.refusal.reset();
@@ -123,7 +105,7 @@ void run_one(RestApi& rest, test::FakePorts& robot, StreamHub& hub, std::uint8_t
   const Snapshot before = snapshot(robot, hub);
   std::optional<Response> reply;
   int replies = 0;
-  const ClientContext client{(flags & 0x80U) != 0 ? 2U : 1U, "127.0.0.1:4000"};
+  const ClientContext client{record.connection(), "127.0.0.1:4000"};
   rest.handle(
       request,
       [&](Response response) {
@@ -150,15 +132,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   test::FakePorts robot;
   StreamHub hub(StreamOptions{});
   RestApi rest(robot.ports(true), hub, {web_dir().dir, "fuzz"});
-  std::string_view input(reinterpret_cast<const char*>(data), size);
-  for (std::size_t record = 0; record < kMaxRecords && !input.empty(); ++record) {
-    const std::size_t end = input.find('\0');
-    const std::string_view bytes = input.substr(0, end);
-    if (!bytes.empty()) {
-      run_one(rest, robot, hub, static_cast<std::uint8_t>(bytes[0]), bytes.substr(1));
-    }
-    if (end == std::string_view::npos) break;
-    input.remove_prefix(end + 1);
+  const std::string_view input(reinterpret_cast<const char*>(data), size);
+  for (const fuzz::RestFuzzRecord& record : fuzz::rest_fuzz_records(input)) {
+    run_one(rest, robot, hub, record);
   }
   return 0;
 }

@@ -73,6 +73,8 @@ HttpReply exchange(Stream& stream, http::request<http::string_body>& req) {
   beast::flat_buffer buffer;
   http::response_parser<http::string_body> parser;
   parser.body_limit(64 * 1024 * 1024);
+  // A reply to HEAD says how long its body would be, and has none.
+  parser.skip(req.method() == http::verb::head);
   beast::error_code read_error;
   http::read(stream, buffer, parser, read_error);
   if (read_error) {
