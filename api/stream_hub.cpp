@@ -326,9 +326,12 @@ void StreamHub::distribute(TopicId topic, const SharedFrame& frame) {
 
 // A batch on its way to the sessions. The io threads that run it take sessions from `next` until
 // none is left, so a thread busy elsewhere does not hold back the clients it would have written.
+// Each pass starts one session further on (`first`): a client is written last once in as many
+// passes as there are clients, not on every one, so every client sees the same latencies.
 struct StreamHub::WritePass {
   FrameBatch frames;
   std::shared_ptr<const SessionList> sessions;
+  std::size_t first = 0;
   std::atomic<std::size_t> next{0};
   std::atomic<unsigned> running{0};
 };
@@ -355,6 +358,7 @@ void StreamHub::start_pass_locked() {
   pass->frames.swap(pending_);
   pending_.reserve(pass->frames.capacity());
   pass->sessions = sessions_;
+  pass->first = passes_started_++ % sessions_->size();
   pass->running = writers;
   pass_running_ = true;
   for (unsigned i = 0; i < writers; ++i) {
@@ -368,7 +372,7 @@ void StreamHub::start_pass_locked() {
 void StreamHub::run_pass(WritePass& pass) {
   const SessionList& sessions = *pass.sessions;
   for (std::size_t i = pass.next.fetch_add(1); i < sessions.size(); i = pass.next.fetch_add(1)) {
-    sessions[i]->deliver(pass.frames);
+    sessions[(pass.first + i) % sessions.size()]->deliver(pass.frames);
   }
 }
 

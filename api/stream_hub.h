@@ -193,6 +193,7 @@ class StreamHub {
   // One pass at a time, so that a client never gets a later tick's frames before an earlier
   // one's; a flush during a pass leaves its frames to the next pass, which starts when this ends.
   bool pass_running_ = false;
+  std::size_t passes_started_ = 0;
   std::optional<boost::asio::any_io_executor> executor_;
   unsigned writers_ = 1;
   LatestMap map_;

@@ -22,6 +22,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -66,6 +67,10 @@ struct TopicStats {
   std::uint64_t bytes = 0;  // frame payloads, headers included
   std::vector<std::int32_t> latency_us;
 };
+
+// The publish-to-receipt latencies of one client, per topic: a target holds for every client, not
+// only for all of them together.
+using ClientLatencies = std::array<std::vector<std::int32_t>, kTopicSlots>;
 
 // Reads the numeric value after `key` in a JSON text (keys the server writes itself).
 std::int64_t json_int_after(std::string_view text, std::string_view key) {
@@ -159,6 +164,7 @@ class Client {
   }
 
   std::array<std::int64_t, kTopicSlots>& last_seq() { return last_seq_; }
+  ClientLatencies& latency_us() { return latency_us_; }
 
  private:
   void consume(std::size_t bytes) {
@@ -203,6 +209,7 @@ class Client {
   std::vector<char> buffer_;  // sized once; only a frame larger than it grows it
   std::size_t used_ = 0;
   std::array<std::int64_t, kTopicSlots> last_seq_{};
+  ClientLatencies latency_us_;
 };
 
 // A thread with its own epoll and its share of the clients.
@@ -220,8 +227,11 @@ class Reader {
     clients_.push_back(std::move(client));
   }
 
-  // Room for the latencies of a topic, so that no reallocation stalls the reader while measuring.
-  void reserve(std::size_t slot, std::size_t frames) { stats_[slot].latency_us.reserve(frames); }
+  // Room for each client's latencies of a topic, so that no reallocation stalls the reader while
+  // measuring.
+  void reserve(std::size_t slot, std::size_t frames_per_client) {
+    for (auto& client : clients_) client->latency_us()[slot].reserve(frames_per_client);
+  }
 
   void start() {
     thread_ = std::thread([this] { run(); });
@@ -229,6 +239,7 @@ class Reader {
   void join() { thread_.join(); }
 
   std::array<TopicStats, kTopicSlots>& stats() { return stats_; }
+  const std::vector<std::unique_ptr<Client>>& clients() const { return clients_; }
   int failed() const { return failed_; }
 
  private:
@@ -281,7 +292,7 @@ class Reader {
       ++stats.frames;
       stats.bytes += payload.size();
       if (last > 0 && seq > last + 1) stats.lost += static_cast<std::uint64_t>(seq - last - 1);
-      stats.latency_us.push_back(static_cast<std::int32_t>(now_us - wall_us));
+      client.latency_us()[slot].push_back(static_cast<std::int32_t>(now_us - wall_us));
     }
     last = seq;
   }
@@ -368,15 +379,17 @@ std::optional<std::pair<int, std::string>> http_get(int fd, const std::string& r
 
 // A REST client polling GET /api/v1/robot at `rate_hz` on one keep-alive connection, as a
 // dashboard or another service does: how many requests it made, how many failed (not 200, or the
-// connection lost), and their latencies while measuring.
+// connection lost), and their latencies while measuring. `phase` (a fraction of the period) is
+// when in each period it asks: clients that do not know of each other do not ask in step.
 class RestPoller {
  public:
-  RestPoller(int port, const std::string& token, double rate_hz, const std::atomic<bool>& measuring,
-             const std::atomic<bool>& stopping)
+  RestPoller(int port, const std::string& token, double rate_hz, double phase,
+             const std::atomic<bool>& measuring, const std::atomic<bool>& stopping)
       : port_(port),
         request_("GET /api/v1/robot HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " + token +
                  "\r\n\r\n"),
         period_(1.0 / rate_hz),
+        phase_(phase * period_),
         measuring_(measuring),
         stopping_(stopping) {}
 
@@ -389,7 +402,8 @@ class RestPoller {
  private:
   void run() {
     int fd = connect_loopback(port_);
-    auto next = std::chrono::steady_clock::now();
+    auto next = std::chrono::steady_clock::now() +
+                std::chrono::duration_cast<std::chrono::steady_clock::duration>(phase_);
     while (!stopping_) {
       next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period_);
       std::this_thread::sleep_until(next);
@@ -418,6 +432,7 @@ class RestPoller {
   int port_;
   std::string request_;
   std::chrono::duration<double> period_;
+  std::chrono::duration<double> phase_;
   const std::atomic<bool>& measuring_;
   const std::atomic<bool>& stopping_;
   std::uint64_t requests_ = 0;
@@ -454,6 +469,7 @@ int main(int argc, char** argv) {
   int camera_quality = 0;
   int rest_clients = 0;
   double rest_hz = 20.0;
+  bool rest_in_step = false;
   cli.add_option("--port", port)->required();
   cli.add_option("--token", token)->required();
   cli.add_option("--clients", clients)->check(CLI::Range(1, 20000));
@@ -473,6 +489,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 5000));
   cli.add_option("--rest-hz", rest_hz, "requests a second of each REST client")
       ->check(CLI::Range(0.1, 200.0));
+  cli.add_flag("--rest-in-step", rest_in_step,
+               "all REST clients ask at the same instant of each period (a burst), instead of "
+               "spread evenly over it");
   CLI11_PARSE(cli, argc, argv);
 
   std::string topic_list;
@@ -497,14 +516,6 @@ int main(int argc, char** argv) {
     readers.push_back(std::make_unique<Reader>(measuring, stopping));
   }
 
-  // Up to 60 Hz per topic and client, with a margin.
-  const auto expected_frames = static_cast<std::size_t>(
-      1.25 * 60.0 * (seconds + 1.0) * static_cast<double>(clients) / static_cast<double>(threads));
-  std::stringstream names(topics);
-  for (std::string topic; std::getline(names, topic, ',');) {
-    for (auto& reader : readers) reader->reserve(slot_of(topic), expected_frames);
-  }
-
   int connected = 0;
   int failed = 0;
   for (int i = 0; i < clients; ++i) {
@@ -522,10 +533,18 @@ int main(int argc, char** argv) {
     readers[static_cast<std::size_t>(i % threads)]->add(std::move(client));
     ++connected;
   }
+  // Up to 60 Hz per topic and client, with a margin.
+  const auto expected_frames = static_cast<std::size_t>(1.25 * 60.0 * (seconds + 1.0));
+  std::stringstream names(topics);
+  for (std::string topic; std::getline(names, topic, ',');) {
+    for (auto& reader : readers) reader->reserve(slot_of(topic), expected_frames);
+  }
   for (auto& reader : readers) reader->start();
   std::vector<std::unique_ptr<RestPoller>> pollers;
   for (int i = 0; i < rest_clients; ++i) {
-    pollers.push_back(std::make_unique<RestPoller>(port, token, rest_hz, measuring, stopping));
+    const double phase = rest_in_step ? 0.0 : static_cast<double>(i) / rest_clients;
+    pollers.push_back(
+        std::make_unique<RestPoller>(port, token, rest_hz, phase, measuring, stopping));
     pollers.back()->start();
   }
   sleep_s(warmup_s);
@@ -559,6 +578,8 @@ int main(int argc, char** argv) {
   }
 
   std::array<TopicStats, kTopicSlots> totals;
+  // Per topic, each client's p99 (ms), for the worst client's.
+  std::array<std::vector<std::int32_t>, kTopicSlots> client_p99_us;
   for (auto& reader : readers) {
     failed += reader->failed();
     for (std::size_t slot = 0; slot < kTopicSlots; ++slot) {
@@ -566,8 +587,16 @@ int main(int argc, char** argv) {
       totals[slot].frames += from.frames;
       totals[slot].lost += from.lost;
       totals[slot].bytes += from.bytes;
-      totals[slot].latency_us.insert(totals[slot].latency_us.end(), from.latency_us.begin(),
-                                     from.latency_us.end());
+    }
+    for (const auto& client : reader->clients()) {
+      for (std::size_t slot = 0; slot < kTopicSlots; ++slot) {
+        auto& latencies = client->latency_us()[slot];
+        if (latencies.empty()) continue;
+        totals[slot].latency_us.insert(totals[slot].latency_us.end(), latencies.begin(),
+                                       latencies.end());
+        client_p99_us[slot].push_back(
+            static_cast<std::int32_t>(std::lround(percentile(latencies, 0.99) * 1e3)));
+      }
     }
   }
 
@@ -583,7 +612,8 @@ int main(int argc, char** argv) {
     std::cout << "topic " << kTopicNames[slot] << " frames " << stats.frames << " per_client_hz "
               << rate_hz << " lost " << stats.lost << " loss_pct " << loss_pct << " latency_ms p50 "
               << percentile(stats.latency_us, 0.50) << " p99 " << percentile(stats.latency_us, 0.99)
-              << " max " << percentile(stats.latency_us, 1.0) << " mean_frame_kb "
+              << " max " << percentile(stats.latency_us, 1.0) << " worst_client_p99 "
+              << percentile(client_p99_us[slot], 1.0) << " mean_frame_kb "
               << static_cast<double>(stats.bytes) / static_cast<double>(stats.frames) / 1024.0
               << "\n";
   }
