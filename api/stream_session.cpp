@@ -360,7 +360,8 @@ void StreamSession::carry_out(const SubscribeRequest& request) {
     budget_.set_rate(*request.max_kbps * 1000.0 / 8.0, ByteBudget::Clock::now());
   }
   note_topics();
-  if (!accepted.empty()) reply({{"op", "subscribed"}, {"topics", accepted}});
+  // A subscribe that names no topic (one that only changes `max_kbps`) is acknowledged too.
+  if (!accepted.empty() || unknown.empty()) reply({{"op", "subscribed"}, {"topics", accepted}});
   if (!unknown.empty()) {
     std::string list;
     for (const auto& name : unknown) list += (list.empty() ? "" : ", ") + name;

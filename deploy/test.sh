@@ -41,9 +41,10 @@ if ! CXX=clang++ cmake -S . -B build-fuzz -DMOBOT_FUZZ=ON >build-fuzz/cmake-conf
 fi
 cmake --build build-fuzz -j"$(nproc)"
 tests/fuzz/run_fuzzers.sh build-fuzz -max_total_time=3
-phase "the REST fuzz corpus against a real mobotd: no 5xx, and a refused request changes nothing in the store"
+phase "the REST and stream fuzz corpora against a real mobotd: a refused request changes nothing in the store"
 MOBOT_REST_FUZZ_CORPUS="$ROOT/build-fuzz/corpus/fuzz_rest_bodies" \
-  build/tests/api/mobot_api_e2e_tests --gtest_filter='RestFuzzReplay.*' --gtest_brief=1
+  MOBOT_STREAM_FUZZ_CORPUS="$ROOT/build-fuzz/corpus/fuzz_stream_messages" \
+  build/tests/api/mobot_api_e2e_tests --gtest_filter='*FuzzReplay.*' --gtest_brief=1
 
 phase "reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Table 3.3, E5)"
 build/tests/bench/mobot_umbmark

@@ -295,6 +295,16 @@ TEST_F(StreamLeaseTest, ABadByteRateCapIsRefusedAndSubscribesNothing) {
   }
 }
 
+// A client on a link that got thinner changes its cap alone, without naming its topics again.
+TEST_F(StreamLeaseTest, ASubscribeThatOnlyChangesTheCapIsAcknowledged) {
+  auto client = open(Role::kViewer);
+  client->send_text(R"({"op":"subscribe","topics":[],"max_kbps":64})");
+  const auto reply = next_with(*client, R"("op")");
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_NE(reply->payload.find(R"("op":"subscribed","topics":[])"), std::string::npos)
+      << reply->payload;
+}
+
 TEST_F(StreamLeaseTest, TheMetricsSayHowOldEachTopicsFramesWereAndWhatEachStreamGot) {
   auto client = open(Role::kViewer);
   client->send_text(R"({"op":"subscribe","topics":["pose"]})");
