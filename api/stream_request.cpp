@@ -2,6 +2,9 @@
 
 #include "api/api_error.h"
 
+#include <algorithm>
+#include <array>
+
 namespace mobot::api {
 namespace {
 
@@ -65,7 +68,7 @@ EstopRequest parse_stream_estop(const nlohmann::json& request, Role role) {
 
 }  // namespace
 
-StreamRequest parse_stream_request(std::string_view text, Role role) {
+StreamMessage read_stream_message(std::string_view text) {
   nlohmann::json request;
   try {
     request = nlohmann::json::parse(text);
@@ -76,7 +79,13 @@ StreamRequest parse_stream_request(std::string_view text, Role role) {
   if (!request.is_object() || op_field == request.end() || !op_field->is_string()) {
     throw ApiError(400, "missing_op", "a message needs a string field 'op'");
   }
-  const auto& op = op_field->get_ref<const std::string&>();
+  std::string op = op_field->get<std::string>();
+  return {std::move(request), std::move(op)};
+}
+
+StreamRequest parse_stream_request(const StreamMessage& message, Role role) {
+  const nlohmann::json& request = message.body;
+  const std::string& op = message.op;
   if (op == "subscribe") return parse_subscribe(request);
   if (op == "unsubscribe") return UnsubscribeRequest{topic_names(request, "unsubscribe")};
   if (op == "teleop") return parse_stream_teleop(request, role);
@@ -86,6 +95,31 @@ StreamRequest parse_stream_request(std::string_view text, Role role) {
     return PingRequest{id == request.end() ? nlohmann::json(nullptr) : *id};
   }
   throw ApiError(400, "unknown_op", "unknown op '" + op + "'");
+}
+
+nlohmann::json request_identity(std::string_view op, std::optional<std::uint64_t> seq) {
+  nlohmann::json identity = nlohmann::json::object();
+  identity["request_op"] = op;
+  if (seq) identity["seq"] = *seq;
+  return identity;
+}
+
+nlohmann::json request_identity(const StreamMessage& message) {
+  static constexpr std::array<std::string_view, 5> kOps{"subscribe", "unsubscribe", "teleop",
+                                                        "estop", "ping"};
+  if (std::find(kOps.begin(), kOps.end(), message.op) == kOps.end())
+    return nlohmann::json::object();
+  nlohmann::json identity = request_identity(message.op);
+  if (message.op == "teleop") {
+    if (const auto seq = message.body.find("seq"); seq != message.body.end() && seq->is_number()) {
+      identity["seq"] = *seq;
+    }
+  }
+  return identity;
+}
+
+StreamRequest parse_stream_request(std::string_view text, Role role) {
+  return parse_stream_request(read_stream_message(text), role);
 }
 
 }  // namespace mobot::api

@@ -48,10 +48,26 @@ struct EstopRequest {
 using StreamRequest = std::variant<SubscribeRequest, UnsubscribeRequest, StreamTeleopRequest,
                                    PingRequest, EstopRequest>;
 
-// One client message. Throws ApiError with the code the session answers with: malformed_json,
-// missing_op, unknown_op, invalid_topics, invalid_encoding, invalid_field, missing_field and, for
-// a teleop or an e-stop from a client below the operator role, forbidden (before its fields are
-// looked at).
+// A client message read as a JSON object with a string "op", before the op's own fields are
+// looked at: what an error reply can name. Throws ApiError malformed_json or missing_op.
+struct StreamMessage {
+  nlohmann::json body;
+  std::string op;
+};
+StreamMessage read_stream_message(std::string_view text);
+
+// The request a message makes. Throws ApiError with the code the session answers with:
+// unknown_op, invalid_topics, invalid_encoding, invalid_field, missing_field and, for a teleop or
+// an e-stop from a client below the operator role, forbidden (before its fields are looked at).
+StreamRequest parse_stream_request(const StreamMessage& message, Role role);
+
+// What an error reply says of the message it answers, so that a client with several requests in
+// flight knows which one was refused: `request_op` (when the op is one of the protocol's) and, for
+// a teleop, its `seq` as sent (when it is a number).
+nlohmann::json request_identity(const StreamMessage& message);
+nlohmann::json request_identity(std::string_view op, std::optional<std::uint64_t> seq = {});
+
+// Both steps; also throws malformed_json and missing_op.
 StreamRequest parse_stream_request(std::string_view text, Role role);
 
 }  // namespace mobot::api

@@ -313,14 +313,17 @@ void StreamSession::handle_message(WsMessage message) {
 }
 
 void StreamSession::handle_text(const std::string& text) {
+  nlohmann::json identity = nlohmann::json::object();
   try {
-    StreamRequest request = parse_stream_request(text, peer_.caller.role);
+    const StreamMessage message = read_stream_message(text);
+    identity = request_identity(message);
+    StreamRequest request = parse_stream_request(message, peer_.caller.role);
     if (over_rate_ && !std::holds_alternative<EstopRequest>(request)) return;
     std::visit([this](const auto& parsed) { carry_out(parsed); }, request);
   } catch (const ApiError& error) {
-    if (!over_rate_) reply_error(error.code(), error.what());
+    if (!over_rate_) reply_error(error.code(), error.what(), identity);
   } catch (const DomainException& error) {
-    if (!over_rate_) reply_error(error.error().code, error.error().message);
+    if (!over_rate_) reply_error(error.error().code, error.error().message, identity);
   }
 }
 
@@ -365,7 +368,7 @@ void StreamSession::carry_out(const SubscribeRequest& request) {
   if (!unknown.empty()) {
     std::string list;
     for (const auto& name : unknown) list += (list.empty() ? "" : ", ") + name;
-    reply_error("unknown_topic", "unknown topic(s): " + list);
+    reply_error("unknown_topic", "unknown topic(s): " + list, request_identity("subscribe"));
   }
   if (wants_map) {
     bool map_binary = false;
@@ -464,7 +467,8 @@ void StreamSession::carry_out(const StreamTeleopRequest& request) {
 void StreamSession::reply_teleop(const Result<msgs::Twist>& result,
                                  const StreamTeleopRequest& request) {
   if (!result.ok()) {
-    reply_error(result.error().code, result.error().message);
+    reply_error(result.error().code, result.error().message,
+                request_identity("teleop", request.seq));
     return;
   }
   const msgs::Twist& applied = result.value();
@@ -498,7 +502,7 @@ void StreamSession::carry_out(const EstopRequest& request) {
         if (!result.ok()) {
           if (const auto refused = weak.lock()) {
             boost::asio::post(refused->socket_.get_executor(), [refused, error = result.error()] {
-              refused->reply_error(error.code, error.message);
+              refused->reply_error(error.code, error.message, request_identity("estop"));
             });
           }
           return;
@@ -520,8 +524,11 @@ void StreamSession::reply(const nlohmann::json& message) {
       WsOpcode::kText, message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
 }
 
-void StreamSession::reply_error(const std::string& code, const std::string& message) {
-  reply({{"op", "error"}, {"code", code}, {"message", message}});
+void StreamSession::reply_error(const std::string& code, const std::string& message,
+                                const nlohmann::json& identity) {
+  nlohmann::json error{{"op", "error"}, {"code", code}, {"message", message}};
+  error.update(identity);
+  reply(error);
 }
 
 void StreamSession::queue_control(std::shared_ptr<const std::string> frame) {

@@ -103,7 +103,9 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   // A write of all of in_flight_ is done: `frames` frames, `bytes` bytes.
   void count_sent(std::size_t frames, std::size_t bytes);
   void reply(const nlohmann::json& message);
-  void reply_error(const std::string& code, const std::string& message);
+  // `identity`: which message it answers (request_identity), when that is known.
+  void reply_error(const std::string& code, const std::string& message,
+                   const nlohmann::json& identity = nlohmann::json::object());
   void queue_control(std::shared_ptr<const std::string> frame);
   void take_locked(TopicId topic, const SharedFrame& frame);
   // Ends a subscription's share in the hub's counts (the caller clears or replaces it).

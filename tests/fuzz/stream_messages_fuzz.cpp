@@ -1,7 +1,8 @@
 // libFuzzer target: a stream client's JSON text messages as the session parses them
 // (api/stream_request: parse_stream_request, with json_request's field checks), for a viewer and
-// an operator. Beyond not crashing: the only exception is ApiError with a documented code, and
-// what is accepted is within the documented ranges (the session acts on it unchecked).
+// an operator. Beyond not crashing: the only exception is ApiError with a documented code, what
+// is accepted is within the documented ranges (the session acts on it unchecked), and what an
+// error reply would name of the message (request_identity) is a known op and a number.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -54,13 +55,26 @@ void check_accepted(const StreamRequest& request, Role role) {
   }
 }
 
+// What an error reply names of a message: an object with at most a known op and a number.
+void check_identity(const nlohmann::json& identity) {
+  check(identity.is_object() && identity.size() <= 2);
+  if (const auto op = identity.find("request_op"); op != identity.end()) {
+    static const std::set<std::string> kOps{"subscribe", "unsubscribe", "teleop", "estop", "ping"};
+    check(op->is_string() && kOps.contains(op->get<std::string>()));
+  }
+  if (const auto seq = identity.find("seq"); seq != identity.end()) check(seq->is_number());
+  identity.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   for (const Role role : {Role::kViewer, Role::kOperator}) {
     try {
-      check_accepted(parse_stream_request(text, role), role);
+      const StreamMessage message = read_stream_message(text);
+      check_identity(request_identity(message));
+      check_accepted(parse_stream_request(message, role), role);
     } catch (const ApiError& error) {
       check(is_documented(error));
     }

@@ -38,13 +38,12 @@ export class EstopRefused extends Error {
 }
 
 /**
- * Whether a stream `{"op":"error"}` answers the pending e-stop: the refusals of an e-stop request
- * (forbidden for a viewer, bad fields) name it; `estop_engaged` is a teleop or goal refused
- * *because* of the e-stop, which is no answer to it.
+ * Whether a stream `{"op":"error"}` answers the pending e-stop: the server names the request an
+ * error refuses (`request_op`). An `estop_engaged` that refuses a teleop is about the e-stop but
+ * no answer to it.
  */
-export function isEstopRefusal(code: string, message: string): boolean {
-  if (!['forbidden', 'missing_field', 'invalid_field'].includes(code)) return false;
-  return /\bestop\b|e-stop|'engaged'/i.test(message);
+export function isEstopRefusal(requestOp: string | undefined): boolean {
+  return requestOp === 'estop';
 }
 
 interface Pending {
@@ -86,8 +85,8 @@ export class EstopChannel {
   }
 
   /** A stream error; true when it was a pending e-stop's refusal (and is reported by it). */
-  onStreamError(code: string, message: string): boolean {
-    if (!this.pending.length || !isEstopRefusal(code, message)) return false;
+  onStreamError(code: string, message: string, requestOp?: string): boolean {
+    if (!this.pending.length || !isEstopRefusal(requestOp)) return false;
     this.take(this.pending[0])!.reject(new EstopRefused(code, message));
     return true;
   }

@@ -301,9 +301,9 @@ const stream = new StreamClient({
     },
     cloud: (chunk) => cloud3d.onChunk(chunk),
     camera: (jpeg) => camera.onFrame(jpeg),
-    serverError: (code, message) => {
+    serverError: (code, message, requestOp) => {
       // A refused e-stop request is reported by the e-stop button's own message.
-      if (estop.onStreamError(code, message)) return;
+      if (estop.onStreamError(code, message, requestOp)) return;
       lastError = `${code}: ${message}`;
       if (code === 'operator_busy') {
         // Teleop is the only stream op the lock guards; the card asks who drives now.

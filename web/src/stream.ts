@@ -86,8 +86,11 @@ export interface StreamHandlers {
   cloud?(chunk: CloudChunk, meta: FrameMeta): void;
   /** One camera frame: the JPEG file (a view into the received message). */
   camera?(jpeg: Uint8Array, meta: FrameMeta): void;
-  /** `{"op":"error"}` replies: unknown op/topic, teleop refused (estop_engaged, forbidden) ... */
-  serverError?(code: string, message: string): void;
+  /**
+   * `{"op":"error"}` replies: unknown op/topic, teleop refused (estop_engaged, forbidden) ...;
+   * `requestOp` is the op of the request it refuses, when the server could tell.
+   */
+  serverError?(code: string, message: string, requestOp?: string): void;
   /** A teleop command applied by the control loop; its round trip when the echo carries `sent_ms`. */
   teleopAck?(ack: TeleopAck): void;
   /** The e-stop state after a stream `{"op":"estop"}` of this page was carried out. */
@@ -418,7 +421,11 @@ export class StreamClient {
           }
           return;
         case 'error':
-          handlers.serverError?.(String(message.code ?? 'error'), String(message.message ?? ''));
+          handlers.serverError?.(
+            String(message.code ?? 'error'),
+            String(message.message ?? ''),
+            typeof message.request_op === 'string' ? message.request_op : undefined,
+          );
           return;
         case 'teleop': {
           this.teleopAcks++;

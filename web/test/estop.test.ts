@@ -86,17 +86,20 @@ describe('the e-stop button', () => {
     const x = transports(true);
     const channel = new EstopChannel(x.t);
     const refused = channel.set(true);
-    expect(channel.onStreamError('estop_engaged', 'the e-stop is engaged: teleop refused')).toBe(false);
-    expect(channel.onStreamError('forbidden', 'teleop needs the operator role')).toBe(false);
-    expect(channel.onStreamError('forbidden', 'estop needs the operator role')).toBe(true);
+    const engagedRefusal = 'the e-stop is engaged: teleop refused';
+    expect(channel.onStreamError('estop_engaged', engagedRefusal, 'teleop')).toBe(false);
+    expect(channel.onStreamError('forbidden', 'teleop needs the operator role', 'teleop')).toBe(false);
+    expect(channel.onStreamError('malformed_json', 'the message is not valid JSON')).toBe(false);
+    expect(channel.onStreamError('forbidden', 'this needs the operator role', 'estop')).toBe(true);
     await expect(refused).rejects.toBeInstanceOf(EstopRefused);
     expect(channel.waiting).toBe(false);
     // Nothing pending: no error is the e-stop's.
-    expect(channel.onStreamError('forbidden', 'estop needs the operator role')).toBe(false);
+    expect(channel.onStreamError('forbidden', 'this needs the operator role', 'estop')).toBe(false);
   });
 
-  it('knows the words of an e-stop refusal', () => {
-    expect(isEstopRefusal('missing_field', "'engaged' is required")).toBe(true);
-    expect(isEstopRefusal('operator_busy', 'estop')).toBe(false);
+  it('knows an e-stop refusal by the request the server says it refuses', () => {
+    expect(isEstopRefusal('estop')).toBe(true);
+    expect(isEstopRefusal('teleop')).toBe(false);
+    expect(isEstopRefusal(undefined)).toBe(false);
   });
 });

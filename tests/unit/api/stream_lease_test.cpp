@@ -66,9 +66,9 @@ TEST_F(StreamLeaseTest, ACommandWhoseSeqIsNotAboveTheLastIsDropped) {
   ASSERT_TRUE(first.has_value());
   EXPECT_NE(first->payload.find(R"("seq":5)"), std::string::npos) << first->payload;
   EXPECT_NE(first->payload.find(R"("sent_ms":1000.5)"), std::string::npos) << first->payload;
-  for (const char* stale : {R"({"op":"teleop","v":0.9,"w":0,"seq":5})",
-                            R"({"op":"teleop","v":0.9,"w":0,"seq":4})",
-                            R"({"op":"teleop","v":0.9,"w":0,"seq":0})"}) {
+  for (const char* stale :
+       {R"({"op":"teleop","v":0.9,"w":0,"seq":5})", R"({"op":"teleop","v":0.9,"w":0,"seq":4})",
+        R"({"op":"teleop","v":0.9,"w":0,"seq":0})"}) {
     client->send_text(stale);
     const auto refused = next_with(*client, R"("op":"error")");
     ASSERT_TRUE(refused.has_value()) << stale;
@@ -87,6 +87,51 @@ TEST_F(StreamLeaseTest, ACommandWhoseSeqIsNotAboveTheLastIsDropped) {
   client->send_text(R"({"op":"teleop","v":0.3,"w":0,"seq":6})");
   EXPECT_TRUE(next_with(*client, R"("code":"stale_seq")").has_value());
   EXPECT_EQ(teleops_accepted(), 3U);
+}
+
+// An error reply names the message it answers: a client with an e-stop, teleops and a subscribe
+// in flight tells which one was refused without reading the error's words.
+TEST_F(StreamLeaseTest, AnErrorReplySaysWhichRequestItRefuses) {
+  auto driver = open(Role::kOperator);
+  driver->send_text(R"({"op":"teleop","v":0.2,"w":0,"seq":5})");
+  ASSERT_TRUE(next_with(*driver, R"("op":"teleop")").has_value());
+  const auto expect_error = [](Client& client, const std::string& message, const std::string& code,
+                               const std::string& identity) {
+    client.send_text(message);
+    const auto refused = next_with(client, R"("op":"error")");
+    ASSERT_TRUE(refused.has_value()) << message;
+    const auto reply = nlohmann::json::parse(refused->payload);
+    EXPECT_EQ(reply.at("code"), code) << refused->payload;
+    const auto expected = nlohmann::json::parse(identity);
+    EXPECT_EQ(reply.value("request_op", nlohmann::json()),
+              expected.value("request_op", nlohmann::json()))
+        << message << " -> " << refused->payload;
+    EXPECT_EQ(reply.value("seq", nlohmann::json()), expected.value("seq", nlohmann::json()))
+        << message << " -> " << refused->payload;
+  };
+  expect_error(*driver, R"({"op":"teleop","v":0.2,"w":0,"seq":4})", "stale_seq",
+               R"({"request_op":"teleop","seq":4})");
+  expect_error(*driver, R"({"op":"teleop","v":"fast","w":0,"seq":9})", "invalid_field",
+               R"({"request_op":"teleop","seq":9})");
+  expect_error(*driver, R"({"op":"estop"})", "missing_field", R"({"request_op":"estop"})");
+  expect_error(*driver, R"({"op":"subscribe","topics":["nope"]})", "unknown_topic",
+               R"({"request_op":"subscribe"})");
+  expect_error(*driver, R"({"op":"subscribe","topics":"pose"})", "invalid_topics",
+               R"({"request_op":"subscribe"})");
+  // Nothing to name: not JSON, no op, an op the protocol does not have.
+  expect_error(*driver, R"({"op":)", "malformed_json", "{}");
+  expect_error(*driver, R"({"v":1})", "missing_op", "{}");
+  expect_error(*driver, R"({"op":"fly"})", "unknown_op", "{}");
+  // Refused by the robot, after the control loop had it.
+  robot_.answers.refusal =
+      DomainError{ErrorKind::kConflict, "estop_engaged", "the e-stop is engaged"};
+  expect_error(*driver, R"({"op":"teleop","v":0.2,"w":0,"seq":10})", "estop_engaged",
+               R"({"request_op":"teleop","seq":10})");
+  expect_error(*driver, R"({"op":"estop","engaged":true})", "estop_engaged",
+               R"({"request_op":"estop"})");
+  auto viewer = open(Role::kViewer);
+  expect_error(*viewer, R"({"op":"estop","engaged":true})", "forbidden",
+               R"({"request_op":"estop"})");
 }
 
 TEST_F(StreamLeaseTest, EachConnectionHasItsOwnSequence) {
@@ -287,7 +332,8 @@ TEST_F(StreamLeaseTest, UnderAByteRateCapThePoseGoesAndTheScansThinOut) {
 TEST_F(StreamLeaseTest, ABadByteRateCapIsRefusedAndSubscribesNothing) {
   auto client = open(Role::kViewer);
   for (const char* cap : {"-1", "1e9", "\"fast\"", "true"}) {
-    client->send_text(std::string(R"({"op":"subscribe","topics":["pose"],"max_kbps":)") + cap + "}");
+    client->send_text(std::string(R"({"op":"subscribe","topics":["pose"],"max_kbps":)") + cap +
+                      "}");
     const auto reply = next_with(*client, R"("op")");
     ASSERT_TRUE(reply.has_value());
     EXPECT_NE(reply->payload.find(R"("code":"invalid_field")"), std::string::npos)
@@ -323,8 +369,7 @@ TEST_F(StreamLeaseTest, TheMetricsSayHowOldEachTopicsFramesWereAndWhatEachStream
   } while (text.find("mobot_stream_frame_age_seconds_count{topic=\"pose\"} 5") ==
                std::string::npos &&
            std::chrono::steady_clock::now() < deadline);
-  EXPECT_NE(text.find("mobot_stream_frame_age_seconds_count{topic=\"pose\"} 5"),
-            std::string::npos)
+  EXPECT_NE(text.find("mobot_stream_frame_age_seconds_count{topic=\"pose\"} 5"), std::string::npos)
       << text;
   // On loopback every frame is taken within a second of its publication.
   EXPECT_NE(text.find("mobot_stream_frame_age_seconds_bucket{topic=\"pose\",le=\"1\"} 5"),
