@@ -126,6 +126,10 @@ Handled RestApi::route(const Request& request, const Segments& path, const Repli
     require_role(request, Role::kViewer);
     return robot(request);
   }
+  if (resource == "whoami") {
+    if (method != http::verb::get) method_not_allowed();
+    return whoami(request);
+  }
   if (resource == "openapi.json") {
     if (method != http::verb::get) method_not_allowed();
     require_role(request, Role::kViewer);

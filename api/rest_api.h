@@ -95,6 +95,9 @@ class RestApi {
   Completion<msgs::Twist> audit_drive(const Claimant& who, int ttl_ms,
                                       Completion<msgs::Twist> done);
   Response list_clients(const Request& request) const;
+  // The caller's own token: what a dashboard shows after sign-in and how it knows itself in the
+  // operator lock and the client list.
+  Response whoami(const Request& request) const;
 
   Response health(const Request& request) const;
   Response robot(const Request& request) const;

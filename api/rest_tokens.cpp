@@ -17,6 +17,19 @@ nlohmann::json expiry_json(const std::optional<std::int64_t>& expires_unix_s) {
 
 }  // namespace
 
+Response RestApi::whoami(const Request& request) const {
+  const Caller caller = require_role(request, Role::kViewer);
+  std::optional<std::int64_t> expires_unix_s;
+  for (const auto& token : ports_.tokens.list_tokens()) {
+    if (token.id == caller.token_id) expires_unix_s = token.expires_unix_s;
+  }
+  return json_response(request, http::status::ok,
+                       {{"token_id", caller.token_id},
+                        {"label", caller.label},
+                        {"role", role_name(caller.role)},
+                        {"expires_at", expiry_json(expires_unix_s)}});
+}
+
 Response RestApi::route_tokens(const Request& request, const Segments& path) {
   require_role(request, Role::kAdmin);
   const auto method = request.method();
@@ -38,9 +51,9 @@ Response RestApi::route_tokens(const Request& request, const Segments& path) {
     std::string label;
     if (body.contains("label")) label = require_string(body, "label", kMaxTokenLabelChars);
     std::optional<std::int64_t> lifetime_s;
-    if (const auto seconds = optional_integer(body, "expires_in_s",
-                                              static_cast<int>(kMinTokenLifetime_s),
-                                              static_cast<int>(kMaxTokenLifetime_s))) {
+    if (const auto seconds =
+            optional_integer(body, "expires_in_s", static_cast<int>(kMinTokenLifetime_s),
+                             static_cast<int>(kMaxTokenLifetime_s))) {
       lifetime_s = *seconds;
     }
     const CreatedToken created = ports_.tokens.create_token(role, label, lifetime_s);

@@ -45,6 +45,7 @@ std::vector<Call> protected_calls() {
       {"GET", "/api/v1/tokens", ""},
       {"POST", "/api/v1/tokens", R"({"role":"admin"})"},
       {"DELETE", "/api/v1/tokens/1", ""},
+      {"GET", "/api/v1/whoami", ""},
   };
 }
 
@@ -280,6 +281,32 @@ TEST_F(HealthAuthTest, CreatedOperatorAndAdminTokensHaveTheirRoles) {
   EXPECT_EQ(unlabeled.status, 201) << unlabeled.body;
 }
 
+// A dashboard learns its own token at sign-in: the operator lock and the client list name tokens
+// by id and label.
+TEST_F(HealthAuthTest, WhoamiNamesTheCallersOwnToken) {
+  const HttpReply made = admin().post(
+      "/api/v1/tokens", json{{"role", "operator"}, {"label", "alice"}, {"expires_in_s", 3600}});
+  ASSERT_EQ(made.status, 201) << made.body;
+  const HttpClient alice = admin().with_token(made.json().at("token").get<std::string>());
+  const HttpReply me = alice.get("/api/v1/whoami");
+  ASSERT_EQ(me.status, 200) << me.body;
+  EXPECT_EQ(me.json(), (json{{"token_id", made.json().at("id")},
+                             {"label", "alice"},
+                             {"role", "operator"},
+                             {"expires_at", made.json().at("expires_at")}}));
+  const json viewer_me = viewer().get("/api/v1/whoami").json();
+  EXPECT_EQ(viewer_me.at("role"), "viewer");
+  EXPECT_TRUE(viewer_me.at("expires_at").is_null());
+  // The process's own admin token (--token) is id 0.
+  const json admin_me = admin().get("/api/v1/whoami").json();
+  EXPECT_EQ(admin_me.at("token_id"), 0);
+  EXPECT_EQ(admin_me.at("role"), "admin");
+  // A revoked token is nobody.
+  ASSERT_EQ(admin().del("/api/v1/tokens/" + std::to_string(made.json().at("id").get<int>())).status,
+            204);
+  EXPECT_EQ(alice.get("/api/v1/whoami").status, 401);
+}
+
 TEST_F(HealthAuthTest, TokenRequestsAreValidated) {
   const auto tokens_before = admin().get("/api/v1/tokens").json().size();
   const std::vector<std::string> bodies = {
@@ -329,6 +356,8 @@ TEST_F(HealthAuthTest, WrongMethodsAre405) {
   const std::vector<Call> calls = {
       {"PUT", "/api/v1/robot", "{}"},
       {"POST", "/api/v1/robot", "{}"},
+      {"POST", "/api/v1/whoami", "{}"},
+      {"DELETE", "/api/v1/whoami", ""},
       {"GET", "/api/v1/teleop", ""},
       {"PUT", "/api/v1/teleop", R"({"v":0,"w":0})"},
       {"GET", "/api/v1/estop", ""},
