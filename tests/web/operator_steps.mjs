@@ -219,10 +219,13 @@ export async function operatorSteps(t) {
       await cardShows(pageB, 'free', /^nobody drives$/, 4000);
       await pageB.click('[data-testid=operator-acquire]');
       const lineB = await cardShows(pageB, 'mine', /^you drive/, 3000);
-      // A has not driven yet: it cannot tell bob from itself until it acts (held), or knows (other).
-      await pageA.waitForFunction(() => /^(held|other)$/.test(window.__mobot.operator.state) && /^driven by bob/.test(window.__mobot.operator.line), null, { timeout: 4000 }).catch(async () => {
+      // Each page knows its own token from sign-in (GET /api/v1/whoami), before it has driven: A
+      // (the process's admin token, id 0) and C (alice) know that the driver is somebody else.
+      await pageA.waitForFunction(() => window.__mobot.operator.state === 'other' && /^driven by bob/.test(window.__mobot.operator.line), null, { timeout: 4000 }).catch(async () => {
         throw new Error(`A shows "${await lineOf(pageA)}" (${JSON.stringify(await hook(pageA))})`);
       });
+      const [meA, meC] = [(await hook(pageA)).me, (await hook(pageC)).me];
+      if (meA !== 0 || meC !== alice.id) throw new Error(`the pages know themselves as token ${meA} (A, admin --token: 0) and ${meC} (C, alice: ${alice.id})`);
       const lineA = await lineOf(pageA);
       await screenshot(pageA, 'operator-a-sees-bob.png');
       // C, another operator, sees bob too; its key press is refused naming him (by the server, or

@@ -198,17 +198,9 @@ export class ApiClient {
     }
   }
 
-  /**
-   * The status a request is answered with (0: unreachable), never a throw: for probes whose
-   * refusal is the answer (which role a token has).
-   */
-  async statusOf(method: string, path: string, body?: unknown): Promise<number> {
-    try {
-      await this.request(method, path, body);
-      return 200;
-    } catch (error) {
-      return error instanceof ApiError ? error.status : 0;
-    }
+  /** This token: its id, label, role and expiry (parsed by login.ts). */
+  whoami(): Promise<unknown> {
+    return this.json('GET', '/api/v1/whoami');
   }
 
   health(): Promise<Health> {

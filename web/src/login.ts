@@ -1,30 +1,34 @@
-// Signing in: what a token may do (its role) and the words of the login view. The server has no
-// "who am I", so the role is read from refusals that change nothing: GET /api/v1/clients answers
-// an admin only, and a POST /api/v1/operator with an empty action is refused for its body (400)
-// when the role may drive, for the role (403) when it may not, because the server checks the role
-// before the body (docs/api.md "Authentication and roles"). A refused request is not audited.
-// Pure (the requests are injected), unit-tested; main.ts renders it.
+// Signing in: who the token is (GET /api/v1/whoami: its id, label, role and expiry) and the words
+// of the login view. Pure, unit-tested; main.ts renders it.
 
 import { ApiError, errorText } from './apierror';
 
 export type Role = 'viewer' | 'operator' | 'admin';
 
-/** Answers a request with its HTTP status, 0 when the server is unreachable (never throws). */
-export type StatusOf = (method: string, path: string, body?: unknown) => Promise<number>;
+/** The signed-in token as the server names it in the operator lock and the client list. */
+export interface SignedInAs {
+  tokenId: number;
+  label: string;
+  role: Role;
+  /** Unix seconds from which the token is refused; null: until it is revoked. */
+  expiresAt: number | null;
+}
 
-const isOk = (status: number) => status >= 200 && status < 300;
+const ROLES: readonly string[] = ['viewer', 'operator', 'admin'];
 
-/** The token's role, null when the answers do not tell (unreachable, refused token, odd server). */
-export async function probeRole(statusOf: StatusOf): Promise<Role | null> {
-  const clients = await statusOf('GET', '/api/v1/clients');
-  if (isOk(clients)) return 'admin';
-  if (clients !== 403) return null;
-  let drive = await statusOf('POST', '/api/v1/operator', { action: '' });
-  // A server without the operator lock: an e-stop without `engaged` is refused the same way.
-  if (drive === 404) drive = await statusOf('POST', '/api/v1/estop', {});
-  if (drive === 400 || drive === 409) return 'operator';
-  if (drive === 403) return 'viewer';
-  return null;
+/** A GET /api/v1/whoami body; null when it is not one. */
+export function parseWhoami(value: unknown): SignedInAs | null {
+  if (typeof value !== 'object' || value === null) return null;
+  const v = value as Record<string, unknown>;
+  if (typeof v.token_id !== 'number' || !Number.isInteger(v.token_id) || v.token_id < 0) return null;
+  if (typeof v.role !== 'string' || !ROLES.includes(v.role)) return null;
+  const expiresAt = typeof v.expires_at === 'number' && Number.isFinite(v.expires_at) ? v.expires_at : null;
+  return { tokenId: v.token_id, label: typeof v.label === 'string' ? v.label : '', role: v.role as Role, expiresAt };
+}
+
+/** "alice (operator)", or the role alone for a token without a label. */
+export function signedInText(who: SignedInAs): string {
+  return who.label ? `${who.label} (${who.role})` : who.role;
 }
 
 /** What the role may do, for the tooltip of the role shown after login. */

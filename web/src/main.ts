@@ -24,7 +24,7 @@ import { bannerView, LinkBanner } from './link_banner';
 import { LinkPanel } from './link_panel';
 import type { SeriesSummary } from './link_panel';
 import type { SeriesKey } from './link';
-import { loginErrorText, probeRole, REVOKED_TEXT, roleTitle } from './login';
+import { loginErrorText, parseWhoami, REVOKED_TEXT, roleTitle, signedInText, type SignedInAs } from './login';
 import type { Role } from './login';
 import { LocalizationPanel } from './localization_panel';
 import { MappingPanel } from './mapping_panel';
@@ -37,7 +37,7 @@ import { RunsPage } from './pages/runs';
 import { StreamClient } from './stream';
 import type { ConnectionState } from './stream';
 import { TTL_MS } from './teleop';
-import { byId, fmt, toast } from './ui';
+import { byId, dateTime, fmt, toast } from './ui';
 
 declare global {
   interface Window {
@@ -721,6 +721,7 @@ function updateBanner(): void {
 window.setInterval(updateBanner, 250);
 
 async function loadServerInfo(): Promise<void> {
+  const asked = token;
   try {
     const health = await api.health();
     byId('server-info').textContent = `${health.backend} · v${health.version}`;
@@ -738,7 +739,11 @@ async function loadServerInfo(): Promise<void> {
   try {
     onRobotStatus(await api.robot());
   } catch (error) {
-    if (error instanceof ApiError && error.status === 401) signOut(loginErrorText(error), true);
+    // Only for the token it asked with: one signed out meanwhile (revoked, with the login view
+    // saying so) is not signed out again for the request the page made without it.
+    if (error instanceof ApiError && error.status === 401 && signedIn && token === asked) {
+      signOut(loginErrorText(error), true);
+    }
   }
 }
 
@@ -756,12 +761,13 @@ function showLogin(message: string | null): void {
   input.focus();
 }
 
-function showRole(value: Role | null): void {
-  role = value;
+function showRole(who: SignedInAs | null): void {
+  role = who?.role ?? null;
   const el = byId('session-role');
-  el.textContent = value ?? '';
-  el.dataset.role = value ?? '';
-  el.title = `This token's role — ${roleTitle(value)}. ${remembered ? 'Remembered on this device' : 'Kept for this tab only'} until you sign out.`;
+  el.textContent = role ?? '';
+  el.dataset.role = role ?? '';
+  const as = who ? `Signed in as ${signedInText(who)}, token #${who.tokenId}${who.expiresAt !== null ? `, valid until ${dateTime(who.expiresAt)}` : ''}. ` : '';
+  el.title = `${as}This token's role — ${roleTitle(role)}. ${remembered ? 'Remembered on this device' : 'Kept for this tab only'} until you sign out.`;
 }
 
 /**
@@ -798,10 +804,11 @@ async function signIn(candidate: string, remember: boolean, source: 'form' | 'ur
   document.body.classList.remove('signed-out');
   showRole(null);
   if (status) onRobotStatus(status);
-  void probeRole((method, path, body) => api.statusOf(method, path, body)).then((found) => {
+  void api.whoami().then(parseWhoami, () => null).then((who) => {
     if (token !== candidate) return; // signed out (or in again) meanwhile
-    showRole(found);
-    if (source === 'form' && found) toast(`Signed in as ${found}`, 'ok');
+    showRole(who);
+    if (who) operator.identify(who.tokenId);
+    if (source === 'form' && who) toast(`Signed in as ${signedInText(who)}`, 'ok');
   });
   stream.restart();
   if (currentPage !== 'live') void refreshPage(currentPage);

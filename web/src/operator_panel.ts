@@ -27,7 +27,10 @@ export class OperatorPanel {
   supported: boolean | null = null;
   /** The holder; undefined until asked (and while disconnected). */
   holder: OperatorHolder | null | undefined = undefined;
-  /** This page's token id, once learnt. */
+  /**
+   * This page's token id: as the server said at sign-in (identify), or learnt from a command it
+   * accepted when that answer did not come.
+   */
   me: number | null = null;
   /** GET /api/v1/clients answered 200 (true) or 403 (false). */
   admin: boolean | null = null;
@@ -69,6 +72,13 @@ export class OperatorPanel {
   disconnected(): void {
     this.poller.stop();
     this.setHolder(undefined);
+  }
+
+  /** This page's token id, as the server said at sign-in (GET /api/v1/whoami). */
+  identify(tokenId: number): void {
+    this.me = tokenId;
+    this.notMe.delete(tokenId);
+    this.update();
   }
 
   /** Another token (signed in again): nothing learnt about the old one holds. */

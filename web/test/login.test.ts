@@ -1,41 +1,23 @@
 import { describe, expect, it } from 'vitest';
 import { ApiError } from '../src/apierror';
-import { loginErrorText, probeRole, roleTitle } from '../src/login';
+import { loginErrorText, parseWhoami, roleTitle, signedInText } from '../src/login';
 
-/** A server whose answers per "METHOD path" are given; records what was asked. */
-function server(answers: Record<string, number>) {
-  const asked: string[] = [];
-  const statusOf = async (method: string, path: string, body?: unknown) => {
-    asked.push(`${method} ${path}${body === undefined ? '' : ` ${JSON.stringify(body)}`}`);
-    return answers[`${method} ${path}`] ?? 0;
-  };
-  return { asked, statusOf };
-}
-
-describe('the role of a token', () => {
-  it('is admin when the connection list answers', async () => {
-    const s = server({ 'GET /api/v1/clients': 200 });
-    expect(await probeRole(s.statusOf)).toBe('admin');
-    expect(s.asked).toEqual(['GET /api/v1/clients']);
+describe('who the token is', () => {
+  it('reads the whoami body', () => {
+    const alice = parseWhoami({ token_id: 7, label: 'alice', role: 'operator', expires_at: 1796000000 });
+    expect(alice).toEqual({ tokenId: 7, label: 'alice', role: 'operator', expiresAt: 1796000000 });
+    expect(signedInText(alice!)).toBe('alice (operator)');
+    const admin = parseWhoami({ token_id: 0, label: '', role: 'admin', expires_at: null });
+    expect(admin?.expiresAt).toBeNull();
+    expect(signedInText(admin!)).toBe('admin');
   });
 
-  it('is operator when an empty lock action is refused for its body, viewer when for the role', async () => {
-    const op = server({ 'GET /api/v1/clients': 403, 'POST /api/v1/operator': 400 });
-    expect(await probeRole(op.statusOf)).toBe('operator');
-    expect(op.asked[1]).toBe('POST /api/v1/operator {"action":""}');
-    expect(await probeRole(server({ 'GET /api/v1/clients': 403, 'POST /api/v1/operator': 403 }).statusOf)).toBe('viewer');
-  });
-
-  it('asks the e-stop (without `engaged`) on a server without the lock', async () => {
-    const s = server({ 'GET /api/v1/clients': 403, 'POST /api/v1/operator': 404, 'POST /api/v1/estop': 403 });
-    expect(await probeRole(s.statusOf)).toBe('viewer');
-    expect(s.asked[2]).toBe('POST /api/v1/estop {}');
-  });
-
-  it('is unknown when the server does not tell (unreachable, refused token)', async () => {
-    expect(await probeRole(server({}).statusOf)).toBeNull();
-    expect(await probeRole(server({ 'GET /api/v1/clients': 401 }).statusOf)).toBeNull();
-    expect(await probeRole(server({ 'GET /api/v1/clients': 403, 'POST /api/v1/operator': 500 }).statusOf)).toBeNull();
+  it('is nobody when the body is not a whoami', () => {
+    expect(parseWhoami(null)).toBeNull();
+    expect(parseWhoami({ token_id: -1, label: 'x', role: 'viewer' })).toBeNull();
+    expect(parseWhoami({ token_id: 1.5, label: 'x', role: 'viewer' })).toBeNull();
+    expect(parseWhoami({ token_id: 1, label: 'x', role: 'root' })).toBeNull();
+    expect(parseWhoami({ id: 1, role: 'viewer' })).toBeNull();
     expect(roleTitle(null)).toMatch(/could not be read/);
   });
 });
