@@ -74,6 +74,25 @@ std::string changed_tables(const DatabaseSnapshot& before, const DatabaseSnapsho
   return names;
 }
 
+std::string describe_changes(const DatabaseSnapshot& before, const DatabaseSnapshot& after) {
+  std::string out;
+  for (const auto& [table, text] : after) {
+    const auto was = before.find(table);
+    const std::string old_text = was == before.end() ? std::string{} : was->second;
+    if (old_text == text) continue;
+    std::size_t at = 0;
+    while (at < text.size() && at < old_text.size() && text[at] == old_text[at]) ++at;
+    const std::size_t row_start =
+        text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+    const std::size_t row_end = text.find('\n', at);
+    std::string row = text.substr(
+        row_start, row_end == std::string::npos ? std::string::npos : row_end - row_start);
+    for (char& c : row) c = (c >= 0x20 && c < 0x7F) ? c : '.';
+    out += table + ": " + row.substr(0, 400) + "\n";
+  }
+  return out;
+}
+
 DatabaseSnapshot settled_database(const std::filesystem::path& file,
                                   std::chrono::milliseconds spacing,
                                   std::chrono::milliseconds timeout) {

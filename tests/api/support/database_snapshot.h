@@ -20,6 +20,10 @@ DatabaseSnapshot read_database(const std::filesystem::path& file);
 // The names of the tables that differ, comma-separated; empty when none does.
 std::string changed_tables(const DatabaseSnapshot& before, const DatabaseSnapshot& after);
 
+// For a failure message: per table that differs, the first row that is not as it was (its
+// printable characters).
+std::string describe_changes(const DatabaseSnapshot& before, const DatabaseSnapshot& after);
+
 // Reads the store until it reads the same twice, `spacing` apart: what an accepted command set
 // going (a drive's stop, a goal reached, a sweep's end) has been written. Fails the test when it
 // still changes after `timeout`.
