@@ -739,10 +739,11 @@ async function loadServerInfo(): Promise<void> {
   try {
     onRobotStatus(await api.robot());
   } catch (error) {
-    // Only for the token it asked with: one signed out meanwhile (revoked, with the login view
-    // saying so) is not signed out again for the request the page made without it.
+    // A token the server took at sign-in and refuses now was revoked or has expired (its
+    // stream's 4401 may come just after this answer). Only for the token it asked with: one
+    // signed out meanwhile is not signed out again for a request made without it.
     if (error instanceof ApiError && error.status === 401 && signedIn && token === asked) {
-      signOut(loginErrorText(error), true);
+      signOut(REVOKED_TEXT, true);
     }
   }
 }
