@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -482,6 +483,8 @@ class Search {
   double heuristic(double x, double y, double theta, bool in_escape) const;
   // Tries the analytic expansion from `node`; fills `found` on success.
   bool try_shot(std::uint32_t node_index, Found& found);
+  // Whether the body, stopped at `pose`, can drive away forward (HybridAStarOptions::keep_way_out).
+  bool has_way_out(const geometry::Pose2D& pose) const;
   void build_primitives();
   void collect_goal_headings();
 
@@ -619,12 +622,35 @@ bool Search::try_shot(std::uint32_t node_index, Found& found) {
       cost += stretch_cost(s - previous_s, under, path.pieces()[piece].curvature_1pm, false);
       previous_s = s;
     }
-    if (clear) {
+    if (clear && (!any_heading_ || !options_.keep_way_out || has_way_out(path.end()))) {
       found = {node_index, path, cost};
       return true;
     }
   }
   return false;
+}
+
+bool Search::has_way_out(const geometry::Pose2D& pose) const {
+  // Along an arc of the given curvature (0: straight) from `pose`, the body checked every
+  // collision step, as the search checks its primitives.
+  const auto clear_along = [&](double curvature_1pm, double length_m) {
+    const auto samples = std::max(1, static_cast<int>(std::ceil(length_m / collision_ds_m_)));
+    for (int i = 1; i <= samples; ++i) {
+      const double s = length_m * i / samples;
+      const double theta = pose.theta + curvature_1pm * s;
+      const double x = curvature_1pm == 0.0
+                           ? pose.x + s * std::cos(pose.theta)
+                           : pose.x + (std::sin(theta) - std::sin(pose.theta)) / curvature_1pm;
+      const double y = curvature_1pm == 0.0
+                           ? pose.y + s * std::sin(pose.theta)
+                           : pose.y - (std::cos(theta) - std::cos(pose.theta)) / curvature_1pm;
+      if (pose_cost(x, y, theta, kClear) > kClear) return false;
+    }
+    return true;
+  };
+  const double half_turn_m = std::numbers::pi * radius_m_;
+  return clear_along(0.0, 2.0 * radius_m_) || clear_along(1.0 / radius_m_, half_turn_m) ||
+         clear_along(-1.0 / radius_m_, half_turn_m);
 }
 
 std::optional<Found> Search::run(std::size_t& expanded, bool& reached_clear) {

@@ -70,6 +70,12 @@ struct HybridAStarOptions {
   // The goal's heading is kept within this; pi (the default) takes the goal as a position and
   // the body may arrive with any heading (a Pose2D cannot say that a goal has no heading).
   double goal_heading_tolerance_rad = std::numbers::pi;
+  // With a free heading, arrive only with one the body can leave by, forward as it came: a
+  // straight run of two turning radii, or a half turn at full lock to either side, clear of the
+  // inflated zone. A base that cannot reverse would otherwise park nose to a wall, or at the end
+  // of a dead end, and find no path to any next goal. A goal it could reach only that way is
+  // refused (kNoPath) rather than left as a trap.
+  bool keep_way_out = true;
   // A start whose body touches the inflated zone (the robot stopped close to a wall, or a
   // localisation jump) may drive this far with its check points in the inscribed band, never on
   // an obstacle, unknown cell or off the grid; the path's later poses must be clear. Longer than

@@ -72,6 +72,7 @@ Registry<planning::GlobalPlanner>::Maker hybrid_astar_plugin(const YAML::Node& s
   reader.number("goal_heading_tolerance_rad", options.goal_heading_tolerance_rad, 0.0,
                 std::numbers::pi);
   reader.number("max_escape_distance_m", options.max_escape_distance_m, 0.0, 10.0);
+  reader.flag("keep_way_out", options.keep_way_out);
   reader.done();
   // Built once now, so a combination the ranges cannot catch (a state cell not below the
   // primitive length) is a config error naming the section, not a failure at the first goal.

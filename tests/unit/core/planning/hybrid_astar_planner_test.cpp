@@ -209,6 +209,39 @@ TEST(HybridAStarPlanner, HoldsTheGoalHeadingWhenAsked) {
   }
 }
 
+// The heading of the path's last chord: how the body arrives.
+double arrival_heading(const PlanResult& result) {
+  const auto& p = result.points_in_map;
+  return std::atan2(p.back().y - p[p.size() - 2].y, p.back().x - p[p.size() - 2].x);
+}
+
+// A goal 3.45 m short of a wall, straight ahead of the start: the body fits there nose to the
+// wall (2.24 m ahead of the rear axle, 0.8 m of inflation), but a car that cannot reverse and
+// turns no tighter than 1.844 m could not leave. It arrives at a heading it can leave by.
+TEST(HybridAStarPlanner, AFreeHeadingGoalIsNotReachedWhereTheBodyCannotLeave) {
+  const PlanningGrid grid = tricycle_grid(yard(20.0, 20.0));
+  const Pose2D start{10.0, 6.0, kPi / 2};
+  const Pose2D goal{10.0, 16.5, 0.0};  // heading free (the default tolerance)
+
+  HybridAStarOptions trapping;
+  trapping.keep_way_out = false;
+  HybridAStarPlanner straight_in(trapping);
+  const PlanResult trapped = straight_in.plan(grid, start, goal);
+  expect_drivable(straight_in, grid, start, goal, trapped);
+  ASSERT_NEAR(arrival_heading(trapped), kPi / 2, 1e-6) << "the shortest way drives straight in";
+  const PlanResult stuck =
+      straight_in.plan(grid, {goal.x, goal.y, arrival_heading(trapped)}, start);
+  ASSERT_FALSE(stuck.ok()) << "the test's trap is not one";
+  EXPECT_EQ(*stuck.error, PlanError::kNoPath);
+
+  HybridAStarPlanner planner;
+  const PlanResult result = planner.plan(grid, start, goal);
+  expect_drivable(planner, grid, start, goal, result);
+  const Pose2D arrived{goal.x, goal.y, arrival_heading(result)};
+  const PlanResult back = planner.plan(grid, arrived, start);
+  expect_drivable(planner, grid, arrived, start, back);
+}
+
 // A serpentine for the tricycle: 30 x 24 m, two 20 m walls from alternate sides leave 10 m gaps,
 // so the way from the bottom-left to the top-left runs east, round the first wall's end, west,
 // and round the second: two U-turns, each in an 8 m wide lane.
@@ -262,13 +295,19 @@ TEST(HybridAStarPlanner, ABranchTooNarrowToTurnIntoIsNoPathInBoundedTime) {
   EXPECT_TRUE(result.points_in_map.empty());
   EXPECT_TRUE(result.cells.empty());
 
-  // Widen the branch to 5 m and it drives in.
+  // Widen the branch to 5 m and the body drives in; but it could not turn round at the dead end
+  // to come out again, so with keep_way_out (the default) the goal is refused.
   mapping::OccupancyGrid wide = lane_with_narrow_branch();
   fill(wide, cells(9.5), cells(4.6), cells(14.5) - 1, cells(11.0) - 1,
        mapping::OccupancyGrid::kFree);
   const PlanningGrid wide_grid = tricycle_grid(wide);
-  const PlanResult in = planner.plan(wide_grid, start, goal);
-  expect_drivable(planner, wide_grid, start, goal, in);
+  const PlanResult trap = planner.plan(wide_grid, start, goal);
+  ASSERT_FALSE(trap.ok());
+  EXPECT_EQ(*trap.error, PlanError::kNoPath);
+  options.keep_way_out = false;
+  HybridAStarPlanner one_way(options);
+  const PlanResult in = one_way.plan(wide_grid, start, goal);
+  expect_drivable(one_way, wide_grid, start, goal, in);
 }
 
 TEST(HybridAStarPlanner, ReportsBadInputs) {
