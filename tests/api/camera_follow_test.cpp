@@ -4,6 +4,7 @@
 // 0.5 m/s is kept at 1.5 m (within 0.3 m by the simulator's truth) for 60 s of robot time, through
 // a moment when a grey ball crossing in front hides it. The distance is to the ball's surface,
 // which is what the head's ultrasonic ranger measures.
+#include <algorithm>
 #include <iomanip>
 #include <thread>
 
@@ -224,7 +225,14 @@ TEST_F(CameraRobotTest, FollowsABallAtTheSetDistanceThroughAnOcclusion) {
             << " s (" << worst_sample << "), occluded seen " << saw_occluded << std::endl;
   EXPECT_GT(samples, 200);
   EXPECT_LT(worst_m, kTolerance_m);
-  EXPECT_TRUE(saw_occluded);
+  // The occlusion lasts a second or two: a poll 50 ms apart on a loaded machine may miss it, the
+  // run's events (a `tracking` event at each change of status) do not.
+  const std::vector<json> events = run_events(viewer(), current_run_id(viewer()));
+  const bool recorded_occluded = std::any_of(events.begin(), events.end(), [](const json& event) {
+    return event.value("kind", "") == "tracking" &&
+           event.at("detail").value("status", "") == "occluded";
+  });
+  EXPECT_TRUE(saw_occluded || recorded_occluded);
   EXPECT_EQ(sim_truth(viewer()).at("collisions"), 0);
   // Stopping tracking ends following, with the reason in a follow event.
   const HttpReply stop = operator_client().del("/api/v1/tracking");

@@ -110,10 +110,28 @@ TEST_F(HardwareDashgoTest, TeleopTurnsTheWheelsAndTheOdometryFollows) {
   const json pose_before = robot_state(admin()).at("pose");
   drive_for(admin(), 0.2, 0.0, 2.0);
   ASSERT_TRUE(wait_until([] { return wheel_setpoints().first == 0.0; }, 3s));
-  const EmulatedPose end = emulated_pose();
+  // The wheels spin down after the zero set-point, and the odometry hears of it one encoder
+  // reading later: both are compared once neither moves by a millimetre in 200 ms (on a loaded
+  // machine the two reads are further apart than the last centimetres of the spin-down).
+  EmulatedPose end = emulated_pose();
+  json pose_after = robot_state(admin()).at("pose");
+  std::this_thread::sleep_for(200ms);  // wait_until asks at once: the first comparison spans this
+  ASSERT_TRUE(wait_until(
+      [&] {
+        const EmulatedPose now = emulated_pose();
+        const json odometry_now = robot_state(admin()).at("pose");
+        const bool still =
+            std::hypot(now.x - end.x, now.y - end.y) < 1e-3 &&
+            std::hypot(odometry_now.at("x").get<double>() - pose_after.at("x").get<double>(),
+                       odometry_now.at("y").get<double>() - pose_after.at("y").get<double>()) <
+                1e-3;
+        end = now;
+        pose_after = odometry_now;
+        return still;
+      },
+      5s, 200ms));
   const double moved_m = std::hypot(end.x - start.x, end.y - start.y);
   EXPECT_GT(moved_m, 0.25);
-  const json pose_after = robot_state(admin()).at("pose");
   const double odometry_m =
       std::hypot(pose_after.at("x").get<double>() - pose_before.at("x").get<double>(),
                  pose_after.at("y").get<double>() - pose_before.at("y").get<double>());
