@@ -46,6 +46,11 @@ class RestFuzzReplay : public ServerSuite<RestFuzzReplay> {
            (token != tokens.end() ? token->second : std::string(credential.name));
   }
 
+  // The run recorder writes its batch every 200 ms: two reads that far apart could both come
+  // before the write of an event the control loop had already recorded (a teleop that lapsed
+  // by itself). More than two periods apart, the second comes after it.
+  static constexpr auto kSettleSpacing = std::chrono::milliseconds(450);
+
   // Brings to an end what an accepted request set going, so that nothing it does later is
   // taken for the doing of a refused one: a drive, a goal or follow mode is stopped with the
   // e-stop (engaged and released), a running sweep is waited for; then the store is read until it
@@ -67,7 +72,7 @@ class RestFuzzReplay : public ServerSuite<RestFuzzReplay> {
         },
         60s, 50ms))
         << "a sweep is still running after 60 s";
-    return settled_database(database());
+    return settled_database(database(), kSettleSpacing);
   }
 
   static inline std::string operator2_token_;

@@ -134,7 +134,8 @@ TEST_F(StreamFuzzReplay, EveryMessageIsAnsweredAndNoneThatIsRefusedChangesTheDat
         // later inputs can still drive.
         sender->close();
         admin().post("/api/v1/estop", json{{"engaged", false}});
-        before = settled_database(database(), 300ms);
+        // Over two of the run recorder's 200 ms write periods between the reads that must agree.
+        before = settled_database(database(), 450ms);
         continue;
       }
       const DatabaseSnapshot after = read_database(database());
