@@ -637,14 +637,8 @@ bool Search::has_way_out(const geometry::Pose2D& pose) const {
     const auto samples = std::max(1, static_cast<int>(std::ceil(length_m / collision_ds_m_)));
     for (int i = 1; i <= samples; ++i) {
       const double s = length_m * i / samples;
-      const double theta = pose.theta + curvature_1pm * s;
-      const double x = curvature_1pm == 0.0
-                           ? pose.x + s * std::cos(pose.theta)
-                           : pose.x + (std::sin(theta) - std::sin(pose.theta)) / curvature_1pm;
-      const double y = curvature_1pm == 0.0
-                           ? pose.y + s * std::sin(pose.theta)
-                           : pose.y - (std::cos(theta) - std::cos(pose.theta)) / curvature_1pm;
-      if (pose_cost(x, y, theta, kClear) > kClear) return false;
+      const geometry::Pose2D there = advance(pose, curvature_1pm, s);
+      if (pose_cost(there.x, there.y, there.theta, kClear) > kClear) return false;
     }
     return true;
   };
