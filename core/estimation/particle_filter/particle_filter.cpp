@@ -122,7 +122,7 @@ void ParticleFilter::start_over(const geometry::Pose2D& odom_pose) {
   force_update_ = true;
   updates_since_start_ = 0;
   settled_updates_ = 0;
-  w_slow_ = w_fast_ = 0.0;
+  restart_fit_averages();
   last_random_fraction_ = 0.0;
   refresh_statistics();
 }
@@ -202,10 +202,18 @@ void ParticleFilter::finish_update(const geometry::Pose2D& predicted, std::size_
   force_update_ = false;
   ++updates_since_start_;
   settled_updates_ = settled_now() ? settled_updates_ + 1 : 0;
-  if (converged()) global_search_ = false;
+  if (global_search_ && converged()) {
+    // The averages so far weighed a cloud spread over the building, which fits any scan poorly:
+    // as the long-term "normal" fit, that would hide a kidnap soon after (w_fast falls to the
+    // kidnapped fit and stays above it). Tracking starts them afresh.
+    global_search_ = false;
+    restart_fit_averages();
+  }
   ++sensor_updates_;
   last_beam_count_ = beams;
 }
+
+void ParticleFilter::restart_fit_averages() { w_slow_ = w_fast_ = 0.0; }
 
 double ParticleFilter::likelihood_exponent() const {
   return global_search_ ? options_.global_search_exponent : 1.0;

@@ -199,6 +199,7 @@ class ParticleFilter {
   // Clusters, estimate, covariance from the current particles.
   void refresh_statistics();
   void start_over(const geometry::Pose2D& odom_pose);
+  void restart_fit_averages();
 
   ParticleFilterOptions options_;
   OdometryMotionModel motion_;
