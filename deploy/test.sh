@@ -50,7 +50,9 @@ phase "reference results in the simulator (docs/algorithms.md E1 UMBmark, E2 Tab
 build/tests/bench/mobot_umbmark
 build/tests/bench/mobot_fusion_table
 phase "online SLAM on the simulated Dashgo office tour (docs/algorithms.md E5)"
-build/tests/bench/mobot_slam_office_tour --seeds 2
+# Seeds 14 and 15: before the first node was kept in the local map, seed 14 left the truth by
+# 0.115 m (the bound is 0.10 m).
+build/tests/bench/mobot_slam_office_tour --first-seed 14 --seeds 2
 
 phase "dashboard unit tests"
 (cd web && npm test --silent)

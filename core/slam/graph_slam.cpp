@@ -169,7 +169,11 @@ geometry::Pose2D GraphSlam::add_scan(const msgs::LaserScan& scan,
                                                 static_cast<std::size_t>(o.local_map_nodes);) {
       const double chain = s.nodes[node].chain_distance_m;
       if (newest_chain - chain > o.local_map_chain_distance_m) break;
-      if (last_member_chain - chain < o.local_map_spacing_m) continue;
+      // The first node stays while it is within reach: with it skipped, the scans of the first
+      // spacing's length would be matched against the newest node alone, chained node to node, and
+      // the map is drawn for good at the heading that chain drifts to (the office tour's worst
+      // error 0.115 m at a corridor's end, from 0.006 rad after its first metre).
+      if (last_member_chain - chain < o.local_map_spacing_m && node != 0) continue;
       last_member_chain = chain;
       members.push_back({s.graph.pose(node), s.nodes[node].scan.points_in_base});
     }

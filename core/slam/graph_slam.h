@@ -43,7 +43,8 @@ struct GraphSlamOptions {
   double local_map_chain_distance_m = 10.0;
   // ... and lie at least this far apart along the chain (0: every node). Spacing them out makes
   // the local map span metres of travel instead of the last few node steps, so heading and
-  // position are matched against geometry placed before the recent drift.
+  // position are matched against geometry placed before the recent drift. The newest node and
+  // the first (the map's anchor) are members whatever their spacing.
   double local_map_spacing_m = 0.0;
   // Search window of the real-time correlative matcher around the odometry prediction.
   // Cartographer's real-time window is 0.1 m / 20 deg; odometry with 3 % step noise and a 1 m step
