@@ -55,12 +55,6 @@ class DashgoTest : public ServerSuite<DashgoTest> {
                       pose.at("y").get<double>() - truth.at("y").get<double>());
   }
 
-  static double heading_error() {
-    const double error =
-        estimate().at("theta").get<double>() - truth_pose().at("theta").get<double>();
-    return std::abs(std::atan2(std::sin(error), std::cos(error)));
-  }
-
   // Teleop towards `target` from the true pose, as an operator watching the robot would: turn,
   // then drive, within the Dashgo's limits. Calls `sample` between commands. False on time-out.
   static bool drive_to(const Point& target, const std::function<void()>& sample) {
@@ -221,7 +215,8 @@ TEST_F(DashgoTest, E_RecoversFromAKidnapWithin30sOfDriving) {
     drive_to(waypoint, [&] {
       // The heading too: the pose turned round at the corridor's other end drives the other way
       // and passes the truth once.
-      if (recovered || position_error() >= 0.3 || heading_error() >= 0.2) return;
+      if (recovered || position_error() >= 0.3 || heading_error(estimate(), truth_pose()) >= 0.2)
+        return;
       recovered = true;
       recovered_after_s = robot_time(viewer()) - start;
     });

@@ -82,8 +82,8 @@ std::string describe_changes(const DatabaseSnapshot& before, const DatabaseSnaps
     if (old_text == text) continue;
     std::size_t at = 0;
     while (at < text.size() && at < old_text.size() && text[at] == old_text[at]) ++at;
-    const std::size_t row_start =
-        text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+    const std::size_t newline_before = text.rfind('\n', at);
+    const std::size_t row_start = newline_before == std::string::npos ? 0 : newline_before + 1;
     const std::size_t row_end = text.find('\n', at);
     std::string row = text.substr(
         row_start, row_end == std::string::npos ? std::string::npos : row_end - row_start);
